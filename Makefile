@@ -1,0 +1,39 @@
+# Two commands a newcomer needs: `make reproduce` and `make test`.
+# Each creates .venv and installs the package (editable, with the dev extra) on first use.
+PYTHON ?= python3
+VENV   := .venv
+PY     := $(VENV)/bin/python
+STAMP  := $(VENV)/.installed
+export OPENBLAS_NUM_THREADS := 1
+export OMP_NUM_THREADS := 1
+export MPLBACKEND := Agg
+
+.PHONY: all venv test reproduce bench data lint clean
+
+all: test
+
+$(STAMP): pyproject.toml
+	test -x $(PY) || $(PYTHON) -m venv $(VENV)
+	$(PY) -m pip install --quiet --upgrade pip
+	$(PY) -m pip install --quiet -e '.[dev,tdms]'
+	touch $(STAMP)
+
+venv: $(STAMP)
+
+test: $(STAMP)
+	MPLCONFIGDIR=$$(mktemp -d) $(PY) -m pytest -q
+
+reproduce: $(STAMP)
+	MPLCONFIGDIR=$$(mktemp -d) $(PY) -m pipeline.cli reproduce --samples data_samples --out build/reproduce
+
+bench: $(STAMP)
+	MPLCONFIGDIR=$$(mktemp -d) $(PY) -m benchmarks --out build/bench
+
+data: $(STAMP)
+	$(PY) scripts/make_samples.py --out data_samples
+
+lint: $(STAMP)
+	$(PY) -m ruff check pipeline tests benchmarks scripts
+
+clean:
+	rm -rf build .pytest_cache

@@ -1,0 +1,139 @@
+"""The record: one impact's force history as an :class:`xarray.Dataset`.
+
+Every reader (:mod:`pipeline.io`) and the simulator (:mod:`pipeline.simulate`) return
+this layout, and every later stage reads it:
+
+- coordinate ``time`` [s], strictly increasing and finite;
+- variables ``Fn`` (normal force, > 0 compressive) and ``Ft`` (tangential force, > 0
+  opposing the initial slip) [N], and ``Fy`` (out-of-plane) [N] where measured;
+- each variable carries ``attrs["units"]``;
+- dataset ``attrs``: ``source`` (file name or generator), ``sha256`` (of the raw bytes,
+  "" when there is no file), ``format`` (reader or generator name), ``kind``
+  (``"sensor"``, ``"digitised"`` or ``"simulated"``) and the scene fields that were given
+  (as numbers, under their :class:`~pipeline.Scene` field names).
+
+Digitised records (WebPlotDigitizer) sample Fn and Ft at different instants. The record
+keeps every digitised point: ``time`` is the sorted union of both channels' instants, and
+boolean variables ``Fn_measured``/``Ft_measured`` mark which instants each channel was
+digitised at. Between its own points a channel is linearly interpolated; outside its own
+digitised span it is NaN. Fits and integrals use each channel's measured points only
+(``record.Fn[record.Fn_measured]``). Forces must be finite wherever they were measured.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import xarray as xr
+
+from .errors import InputError
+
+__all__ = ["make_record", "validate", "channel", "FORCE_CHANNELS", "KINDS"]
+
+FORCE_CHANNELS = ("Fn", "Ft", "Fy")
+KINDS = ("sensor", "digitised", "simulated")
+
+_LONG_NAMES = {
+    "Fn": "normal force (compressive > 0)",
+    "Ft": "tangential force (> 0 opposing the initial slip)",
+    "Fy": "out-of-plane force",
+}
+
+
+def make_record(time, forces: dict, *, attrs: dict | None = None, measured: dict | None = None,
+                extra: dict | None = None) -> xr.Dataset:
+    """Assemble a record from arrays already in SI units.
+
+    Parameters
+    ----------
+    time : array_like
+        Sample instants [s].
+    forces : dict
+        ``{"Fn": array, "Ft": array, ["Fy": array]}`` [N], each the length of ``time``.
+    attrs : dict, optional
+        Dataset attributes (``source``, ``sha256``, ``format``, ``kind``, scene fields...).
+    measured : dict, optional
+        ``{"Fn": bool array, ...}`` for digitised records (see module notes).
+    extra : dict, optional
+        Further variables on ``time``: ``{name: (array, units, long_name)}``.
+
+    Returns
+    -------
+    xarray.Dataset
+        The record; :func:`validate` has been applied.
+    """
+    t = np.asarray(time, dtype=float)
+    data_vars = {}
+    for name, values in forces.items():
+        if name not in FORCE_CHANNELS:
+            raise InputError(f"unknown force channel {name!r}; expected one of {FORCE_CHANNELS}")
+        data_vars[name] = ("time", np.asarray(values, dtype=float),
+                           {"units": "N", "long_name": _LONG_NAMES[name]})
+    for name, mask in (measured or {}).items():
+        data_vars[f"{name}_measured"] = ("time", np.asarray(mask, dtype=bool),
+                                         {"long_name": f"instants at which {name} was digitised"})
+    for name, (values, units, long_name) in (extra or {}).items():
+        data_vars[name] = ("time", np.asarray(values, dtype=float),
+                           {"units": units, "long_name": long_name})
+    ds = xr.Dataset(data_vars, coords={"time": ("time", t, {"units": "s", "long_name": "time"})},
+                    attrs=dict(attrs or {}))
+    ds.attrs.setdefault("sha256", "")
+    validate(ds)
+    return ds
+
+
+def channel(record: xr.Dataset, name: str) -> tuple[np.ndarray, np.ndarray]:
+    """The instants [s] and values [N] at which channel ``name`` was actually measured."""
+    t = record["time"].values
+    f = record[name].values
+    mask_name = f"{name}_measured"
+    if mask_name in record:
+        m = record[mask_name].values.astype(bool)
+        return t[m], f[m]
+    return t, f
+
+
+def validate(record: xr.Dataset) -> xr.Dataset:
+    """Check a record's invariants; return it unchanged or raise :class:`InputError`.
+
+    Checks: a ``time`` coordinate in seconds, finite and strictly increasing, with at least
+    two samples; an ``Fn`` variable; every force variable in newtons and finite wherever it
+    was measured; the ``source``, ``sha256`` and ``format`` attributes present.
+    """
+    src = record.attrs.get("source", "<record>")
+    if "time" not in record.coords:
+        raise InputError("record has no 'time' coordinate", path=src)
+    t = record["time"].values
+    if record["time"].attrs.get("units") != "s":
+        raise InputError("record time must carry units 's'", path=src)
+    if t.ndim != 1 or t.size < 2:
+        raise InputError(f"record needs at least 2 samples, has {t.size}", path=src)
+    if not np.all(np.isfinite(t)):
+        raise InputError("record time has NaN or infinite values", path=src)
+    steps = np.diff(t)
+    if np.any(steps <= 0):
+        i = int(np.argmax(steps <= 0))
+        raise InputError(
+            f"time does not strictly increase at sample {i + 1} "
+            f"({t[i]!r} s then {t[i + 1]!r} s); sort or de-duplicate the samples",
+            path=src,
+        )
+    if "Fn" not in record:
+        raise InputError("record has no normal-force channel 'Fn'", path=src)
+    for name in FORCE_CHANNELS:
+        if name not in record:
+            continue
+        var = record[name]
+        if var.attrs.get("units") != "N":
+            raise InputError(f"record variable {name} must carry units 'N'", path=src)
+        _, values = channel(record, name)
+        bad = ~np.isfinite(values)
+        if bad.any():
+            raise InputError(
+                f"{name} has {int(bad.sum())} NaN or infinite values (first at measured "
+                f"sample {int(np.argmax(bad))}); remove or repair those samples",
+                path=src,
+            )
+    for key in ("source", "sha256", "format"):
+        if key not in record.attrs:
+            raise InputError(f"record lacks the {key!r} attribute", path=src)
+    return record

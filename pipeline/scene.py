@@ -1,0 +1,231 @@
+r"""The scene: one impact of a ball on a target, in SI units.
+
+A :class:`Scene` carries everything the rigid and compliant models need: the ball's
+geometry, mass and elastic constants, the target's, the impact speed and angle, friction
+and restitution. Effective (two-body) properties follow PHYSICS.md §4:
+
+.. math::
+
+    \frac{1}{E^*} = \frac{1-\nu_1^2}{E_1} + \frac{1-\nu_2^2}{E_2}, \quad
+    \frac{1}{G^*} = \frac{2-\nu_1}{G_1} + \frac{2-\nu_2}{G_2}, \quad
+    \frac{1}{R^*} = \frac{1}{R_1} + \frac{1}{R_2}, \quad
+    \frac{1}{m^*} = \frac{1}{m_1} + \frac{1}{m_2}
+
+and the approach and slip speeds follow PHYSICS.md §1:
+:math:`v_{n0} = v\cos\alpha`, :math:`v_{t0} = v\sin\alpha - u` (``u`` the target's
+surface speed along the slip direction).
+
+Fields may be numpy arrays (broadcast against each other) where a function says it
+accepts arrays of scenes; validation then applies element-wise.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import InputError
+
+__all__ = ["Scene"]
+
+_INF = math.inf
+
+
+def _arr(x):
+    return np.asarray(x, dtype=float)
+
+
+@dataclass(frozen=True)
+class Scene:
+    """One impact of a ball on a target.
+
+    Parameters
+    ----------
+    radius : float
+        Ball radius [m].
+    speed : float
+        Impact speed [m/s]; the relative speed when both bodies move.
+    density : float, optional
+        Ball density [kg/m³]. Give ``density`` or ``mass``.
+    mass : float, optional
+        Ball mass [kg].
+    E : float, optional
+        Ball Young's modulus [Pa]; needed by compliant models.
+    nu : float, optional
+        Ball Poisson ratio [-], 0 ≤ ν < 0.5; needed by compliant models.
+    target_E : float
+        Target Young's modulus [Pa]; ``inf`` (default) is a rigid target.
+    target_nu : float
+        Target Poisson ratio [-]. Default 0.
+    target_radius : float
+        Radius of a curved target cap or second sphere [m]; ``inf`` (default) is flat.
+    target_mass : float
+        Mass of the second body [kg]; ``inf`` (default) is a fixed target.
+    angle_deg : float
+        Angle between the incoming velocity and the surface normal [deg] (the seed's
+        tilt α), 0 ≤ α < 90.
+    mu : float
+        Coulomb friction coefficient [-].
+    e : float
+        Normal coefficient of restitution [-], 0 ≤ e ≤ 1.
+    kappa : float
+        I/(m·R²) [-]; 0.4 for a solid sphere.
+    spin : float
+        Spin before impact [rad/s], positive in the sense a positive Pt produces.
+    surface_speed : float
+        Tangential speed of the target surface along the ball's slip direction [m/s]
+        (the seed's rotating-disc rig).
+    """
+
+    radius: float
+    speed: float
+    density: float | None = None
+    mass: float | None = None
+    E: float | None = None
+    nu: float | None = None
+    target_E: float = _INF
+    target_nu: float = 0.0
+    target_radius: float = _INF
+    target_mass: float = _INF
+    angle_deg: float = 0.0
+    mu: float = 0.0
+    e: float = 1.0
+    kappa: float = 0.4
+    spin: float = 0.0
+    surface_speed: float = 0.0
+
+    def __post_init__(self):
+        for f in dataclasses.fields(self):
+            v = getattr(self, f.name)
+            if v is None:
+                continue
+            try:
+                a = _arr(v)
+            except (TypeError, ValueError):
+                raise InputError(f"Scene.{f.name} must be a number, got {v!r}") from None
+            if np.isnan(a).any():
+                raise InputError(f"Scene.{f.name} is NaN; give a number")
+            object.__setattr__(self, f.name, float(a) if a.ndim == 0 else a)
+        self._check_mass()
+        checks = [
+            ("radius", lambda a: (a > 0) & np.isfinite(a), "a positive finite radius [m]"),
+            ("speed", lambda a: (a >= 0) & np.isfinite(a), "a finite speed ≥ 0 [m/s]"),
+            ("E", lambda a: a > 0, "a positive Young's modulus [Pa]"),
+            ("nu", lambda a: (a >= 0) & (a < 0.5), "a Poisson ratio with 0 ≤ ν < 0.5"),
+            ("target_E", lambda a: a > 0, "a positive modulus [Pa] (inf = rigid)"),
+            ("target_nu", lambda a: (a >= 0) & (a < 0.5), "a Poisson ratio with 0 ≤ ν < 0.5"),
+            ("target_radius", lambda a: a > 0, "a positive radius [m] (inf = flat)"),
+            ("target_mass", lambda a: a > 0, "a positive mass [kg] (inf = fixed)"),
+            ("angle_deg", lambda a: (a >= 0) & (a < 90), "an angle with 0 ≤ α < 90 [deg]"),
+            ("mu", lambda a: (a >= 0) & np.isfinite(a), "a friction coefficient μ ≥ 0"),
+            ("e", lambda a: (a >= 0) & (a <= 1), "a restitution coefficient with 0 ≤ e ≤ 1"),
+            ("kappa", lambda a: (a > 0) & np.isfinite(a), "κ = I/(m·R²) > 0 (0.4 solid)"),
+            ("spin", np.isfinite, "a finite spin [rad/s]"),
+            ("surface_speed", np.isfinite, "a finite surface speed [m/s]"),
+        ]
+        for name, ok, want in checks:
+            v = getattr(self, name)
+            if v is not None and not np.all(ok(_arr(v))):
+                raise InputError(f"Scene.{name} = {v!r} is out of range: give {want}")
+
+    def _check_mass(self):
+        d, m = self.density, self.mass
+        if d is None and m is None:
+            raise InputError("Scene needs the ball's density [kg/m³] or its mass [kg]")
+        for name, v in (("density", d), ("mass", m)):
+            if v is not None and not np.all((_arr(v) > 0) & np.isfinite(_arr(v))):
+                raise InputError(f"Scene.{name} = {v!r} must be positive and finite")
+        if d is not None and m is not None:
+            derived = _arr(d) * (4.0 / 3.0) * np.pi * _arr(self.radius) ** 3
+            if not np.allclose(derived, m, rtol=1e-6, atol=0):
+                raise InputError(
+                    f"Scene: mass {m!r} kg disagrees with density {d!r} kg/m³ and radius "
+                    f"{self.radius!r} m (which give {derived!r} kg); give only one of them"
+                )
+
+    # ----------------------------------------------------------------- derived
+    @property
+    def m(self):
+        """Ball mass [kg]."""
+        if self.mass is not None:
+            return self.mass
+        return self.density * (4.0 / 3.0) * np.pi * self.radius**3
+
+    @property
+    def m_eff(self):
+        """Effective mass m* = 1/(1/m + 1/m_target) [kg]."""
+        return _scalar(1.0 / (1.0 / _arr(self.m) + 1.0 / _arr(self.target_mass)))
+
+    @property
+    def R_eff(self):
+        """Effective radius R* = 1/(1/R + 1/R_target) [m]."""
+        return _scalar(1.0 / (1.0 / _arr(self.radius) + 1.0 / _arr(self.target_radius)))
+
+    def _need_elastic(self):
+        if self.E is None or self.nu is None:
+            raise InputError(
+                "this model needs the ball's elastic constants: give Scene(E=..., nu=...)"
+            )
+
+    @property
+    def E_eff(self):
+        """Effective modulus E* [Pa]: 1/E* = (1−ν1²)/E1 + (1−ν2²)/E2."""
+        self._need_elastic()
+        inv = (1 - self.nu**2) / self.E + (1 - self.target_nu**2) / _arr(self.target_E)
+        return _scalar(1.0 / inv)
+
+    @property
+    def G_eff(self):
+        """Effective shear modulus G* [Pa]: 1/G* = (2−ν1)/G1 + (2−ν2)/G2."""
+        self._need_elastic()
+        g1 = self.E / (2 * (1 + self.nu))
+        g2 = _arr(self.target_E) / (2 * (1 + self.target_nu))
+        return _scalar(1.0 / ((2 - self.nu) / g1 + (2 - self.target_nu) / g2))
+
+    @property
+    def v_n0(self):
+        """Approach speed v·cos α [m/s] (> 0)."""
+        return self.speed * np.cos(np.radians(self.angle_deg))
+
+    @property
+    def v_t0(self):
+        """Tangential speed of the centre relative to the target surface, v·sin α − u [m/s]."""
+        return self.speed * np.sin(np.radians(self.angle_deg)) - self.surface_speed
+
+    @property
+    def slip0(self):
+        """Initial slip of the contact point, v_t0 − spin·R [m/s] (PHYSICS.md §1)."""
+        return self.v_t0 - self.spin * self.radius
+
+    # ----------------------------------------------------------------- helpers
+    def replace(self, **changes) -> Scene:
+        """A copy with some fields changed (validated again)."""
+        return dataclasses.replace(self, **changes)
+
+    def to_dict(self) -> dict:
+        """The fields given (None omitted), as plain floats or lists (JSON-ready)."""
+        out = {}
+        for f in dataclasses.fields(self):
+            v = getattr(self, f.name)
+            if v is None:
+                continue
+            out[f.name] = v.tolist() if isinstance(v, np.ndarray) else float(v)
+        return out
+
+    @classmethod
+    def from_dict(cls, d) -> Scene:
+        """Build a Scene from a mapping, ignoring keys that are not fields."""
+        names = {f.name for f in dataclasses.fields(cls)}
+        return cls(**{k: v for k, v in dict(d).items() if k in names})
+
+    @classmethod
+    def field_names(cls) -> tuple[str, ...]:
+        return tuple(f.name for f in dataclasses.fields(cls))
+
+
+def _scalar(a):
+    a = np.asarray(a, dtype=float)
+    return float(a) if a.ndim == 0 else a
