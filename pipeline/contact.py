@@ -42,6 +42,7 @@ __all__ = [
     "hertz_stiffness",
     "hertz",
     "hertz_impact",
+    "hertz_pulse",
     "contact_radius",
     "hunt_crossley",
     "lankarani_nikravesh",
@@ -153,6 +154,43 @@ def hertz_impact(scene: Scene, v0=None) -> HertzImpact:
 def _f(x):
     x = np.asarray(x, dtype=float)
     return float(x) if x.ndim == 0 else x
+
+
+def hertz_pulse(t, impact: HertzImpact):
+    """Exact elastic Hertz impact history: approach, force and normal percussion at ``t``.
+
+    Parameters
+    ----------
+    t : array_like
+        Time since first contact [s]; values outside [0, t_c] give zero force.
+    impact : HertzImpact
+        From :func:`hertz_impact`.
+
+    Returns
+    -------
+    dict of numpy.ndarray
+        ``delta`` [m], ``delta_dot`` [m/s], ``F`` [N], ``Pn`` [N·s] (normal percussion).
+
+    Notes
+    -----
+    Energy conservation, ½m*δ̇² + (2/5)Kδ^{5/2} = ½m*v0², with u = (δ/δ_max)^{5/2} gives
+    t = (2/5)·B(2/5, 1/2)·I_u(2/5, 1/2)·δ_max/v0 on the way in, I_u the regularised incomplete
+    beta function; its inverse gives δ(t) exactly, and F = F_max·u^{3/5},
+    Pn = m*·(v0 − δ̇). No ODE, no half-sine approximation.
+    """
+    t = np.asarray(t, dtype=float)
+    half = impact.t_c / 2.0
+    inside = (t >= 0) & (t <= impact.t_c)
+    s = np.clip(np.where(t <= half, t, impact.t_c - t) / half, 0.0, 1.0)
+    u = special.betaincinv(0.4, 0.5, s)
+    sign = np.where(t <= half, 1.0, -1.0)
+    delta = np.where(inside, impact.delta_max * u**0.4, 0.0)
+    delta_dot = np.where(inside, sign * impact.v0 * np.sqrt(1.0 - u), 0.0)
+    F = np.where(inside, impact.F_max * u**0.6, 0.0)
+    Pn = impact.m_eff * np.where(
+        t < 0, 0.0, np.where(inside, impact.v0 - delta_dot, 2.0 * impact.v0)
+    )
+    return {"delta": delta, "delta_dot": delta_dot, "F": F, "Pn": Pn}
 
 
 # ------------------------------------------------------ Hunt–Crossley family
