@@ -1,0 +1,166 @@
+"""Helpers shared by the readers: raw bytes and their hash, decoding, attributes, errors."""
+
+from __future__ import annotations
+
+import contextlib
+import hashlib
+import math
+import numbers
+import os
+import re
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError, PlaneImpactWarning
+from ..scene import Scene
+
+__all__ = [
+    "read_raw",
+    "decode",
+    "scene_attrs",
+    "base_attrs",
+    "atomic_write_text",
+    "check_plane",
+    "meta_key",
+]
+
+#: Out-of-plane peak above this fraction of the normal peak triggers PlaneImpactWarning.
+PLANE_TOLERANCE = 0.05
+
+
+def read_raw(path) -> tuple[Path, bytes, str]:
+    """Read a file's bytes; return ``(path, raw, sha256 hex digest)``.
+
+    Raises
+    ------
+    InputError
+        Missing file, a directory, or an unreadable file.
+    """
+    try:
+        p = Path(os.fspath(path))
+    except TypeError:
+        raise InputError(f"expected a file path, got {path!r}") from None
+    if p.is_dir():
+        raise InputError("is a directory, not a file; give the path of one record file", path=p)
+    try:
+        raw = p.read_bytes()
+    except FileNotFoundError:
+        raise InputError("no such file; check the path", path=p) from None
+    except OSError as exc:
+        raise InputError(f"cannot read the file ({exc.strerror or exc})", path=p) from exc
+    return p, raw, hashlib.sha256(raw).hexdigest()
+
+
+def decode(raw: bytes, path, encoding: str | None = None) -> str:
+    """Decode a text file.
+
+    Accepted without an ``encoding`` argument: UTF-8 with or without a byte-order mark, and
+    UTF-16 with a byte-order mark (Excel's "Unicode text"). Anything else must be named with
+    ``encoding=`` (e.g. ``"cp1252"`` for old Windows exports): guessing a legacy code page
+    would turn a µ into another letter without a word.
+    """
+    if encoding is not None:
+        try:
+            text = raw.decode(encoding)
+        except LookupError:
+            raise InputError(f"unknown encoding {encoding!r}", path=path) from None
+        except UnicodeDecodeError as exc:
+            line = raw[: exc.start].count(b"\n") + 1
+            raise InputError(
+                f"bytes at offset {exc.start} are not valid {encoding}; "
+                "re-save the file as UTF-8 or pass the right encoding=",
+                path=path,
+                line=line,
+            ) from exc
+        return text.removeprefix("\ufeff")
+    if raw.startswith((b"\xff\xfe", b"\xfe\xff")):
+        try:
+            return raw.decode("utf-16")
+        except UnicodeDecodeError as exc:
+            raise InputError(
+                "starts with a UTF-16 byte-order mark but is not valid UTF-16; "
+                "re-save the file as UTF-8",
+                path=path,
+            ) from exc
+    try:
+        return raw.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        line = raw[: exc.start].count(b"\n") + 1
+        raise InputError(
+            f"bytes at offset {exc.start} are not valid UTF-8 (this is not a UTF-8 text file); "
+            "re-save it as UTF-8, or for a legacy Windows export call "
+            "pipeline.io.read_sensor(path, encoding='cp1252')",
+            path=path,
+            line=line,
+        ) from exc
+
+
+def scene_attrs(fields: dict) -> dict:
+    """Validate scene keyword arguments and return them as float attributes."""
+    allowed = Scene.field_names()
+    out = {}
+    for name, value in fields.items():
+        if name not in allowed:
+            raise InputError(f"unknown keyword {name!r}; scene fields are: {', '.join(allowed)}")
+        if isinstance(value, bool) or not isinstance(value, numbers.Real):
+            raise InputError(f"scene field {name}={value!r} must be a number (SI units)")
+        value = float(value)
+        if math.isnan(value):
+            raise InputError(f"scene field {name} is NaN; give a number (SI units)")
+        out[name] = value
+    return out
+
+
+def base_attrs(path: Path, sha256: str, fmt: str, kind: str) -> dict:
+    return {"source": path.name, "sha256": sha256, "format": fmt, "kind": kind}
+
+
+_KEY_RE = re.compile(r"[^0-9A-Za-z_]+")
+
+
+def meta_key(key: str) -> str:
+    """Attribute name for a metadata key: ``"Sample rate"`` → ``"meta_sample_rate"``."""
+    k = _KEY_RE.sub("_", key.strip()).strip("_").lower()
+    return f"meta_{k or 'unnamed'}"
+
+
+def atomic_write_text(path, text: str, *, encoding: str = "utf-8", newline: str = "\n") -> Path:
+    """Write ``text`` to ``path`` atomically: a temporary file in the same folder, then
+    :func:`os.replace`. A reader never sees a half-written file."""
+    path = Path(os.fspath(path))
+    directory = path.parent if str(path.parent) else Path(".")
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=directory)
+    try:
+        with os.fdopen(fd, "w", encoding=encoding, newline=newline) as fh:
+            fh.write(text)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            os.unlink(tmp)
+        raise
+    return path
+
+
+def check_plane(forces: dict, path) -> None:
+    """Warn (:class:`PlaneImpactWarning`) when max|Fy| > 5 % of max|Fn|."""
+    import warnings
+
+    fy = forces.get("Fy")
+    fn = forces.get("Fn")
+    if fy is None or fn is None or len(fn) == 0:
+        return
+    peak_y = float(np.max(np.abs(fy)))
+    peak_n = float(np.max(np.abs(fn)))
+    if peak_y > PLANE_TOLERANCE * peak_n:
+        ratio = peak_y / peak_n if peak_n > 0 else math.inf
+        warnings.warn(
+            f"{Path(os.fspath(path)).name}: out-of-plane peak |Fy| = {peak_y:.4g} N is "
+            f"{100 * ratio:.1f} % of the normal peak |Fn| = {peak_n:.4g} N (> "
+            f"{100 * PLANE_TOLERANCE:.0f} %); the plane-impact assumption is doubtful",
+            PlaneImpactWarning,
+            stacklevel=4,
+        )
