@@ -1,0 +1,141 @@
+"""Contact window: start/end, baseline and noise on records with a known truth.
+
+Ground truth is the exact elastic Hertz history (pipeline.contact.hertz_pulse; Johnson,
+Contact Mechanics, CUP 1985, §11.4, doi:10.1017/CBO9781139171731) for a 25.4 mm steel ball
+on a steel cap at 0.5 m/s (PHYSICS.md §5 table: F_max ≈ 1.2 kN, t_c ≈ 101 µs), with
+offset, drift, white noise and pre-/post-trigger samples added here with numpy.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy import integrate
+
+from pipeline.contact import hertz_impact, hertz_pulse
+from pipeline.errors import InputError
+from pipeline.record import make_record
+from pipeline.scene import Scene
+from pipeline.window import apply_window, default_threshold, find_contact
+
+SCENE = Scene(
+    radius=0.0127, density=7800.0, E=200e9, nu=0.3, target_E=200e9, target_nu=0.3, speed=0.5
+)
+IMPACT = hertz_impact(SCENE)
+FS = 1e6  # sampling rate [Hz]: ~100 samples per contact (PHYSICS.md §5)
+T0 = 1.5e-3 + 0.37e-6  # true contact start, off the sample grid [s]
+SIGMA_N, SIGMA_T = 2.0, 1.5  # white noise [N]
+OFFSET_N, DRIFT_N = 15.0, 2.0e4  # [N], [N/s]
+OFFSET_T, DRIFT_T = -3.0, -5.0e3
+
+
+def sensor_record(seed=1, pulse=True, sigma_n=SIGMA_N):
+    rng = np.random.default_rng(seed)
+    t = np.arange(0.0, 3.1e-3, 1.0 / FS)
+    F = hertz_pulse(t - T0, IMPACT)["F"] if pulse else np.zeros_like(t)
+    Fn = F + OFFSET_N + DRIFT_N * t + rng.normal(0.0, sigma_n, t.size)
+    Ft = 0.2 * F + OFFSET_T + DRIFT_T * t + rng.normal(0.0, SIGMA_T, t.size)
+    return make_record(
+        t, {"Fn": Fn, "Ft": Ft}, attrs={"source": "synthetic", "format": "test", "kind": "sensor"}
+    )
+
+
+def end_tolerance(sigma):
+    """One sample period plus the time a Hertz start F = K(v0 t)^{3/2} needs to reach 3σ.
+
+    Below ~σ the pulse cannot be told from noise; the window's ends stop at the last sample
+    above σ and interpolate to zero, so they are off by the rise time to a few σ (late) or
+    by noise samples above σ next to the edge (early, probability 0.16 per sample).
+    """
+    return 1.0 / FS + (3.0 * sigma / IMPACT.K) ** (2.0 / 3.0) / IMPACT.v0
+
+
+def test_sensor_window_recovers_start_end_noise_and_impulse():
+    rec = sensor_record()
+    raw = rec.copy(deep=True)
+    w = find_contact(rec)
+    tol = end_tolerance(SIGMA_N)
+    assert tol < 3.0 / FS  # the derived tolerance is about one to two samples here
+    assert abs(w.t_start - T0) < tol
+    assert abs(w.t_end - (T0 + IMPACT.t_c)) < tol
+    for seed in (2, 3, 4):
+        other = find_contact(sensor_record(seed))
+        assert abs(other.t_start - T0) < tol
+        assert abs(other.t_end - (T0 + IMPACT.t_c)) < tol
+    assert w.noise["Fn"] == pytest.approx(SIGMA_N, rel=0.10)
+    assert w.noise["Ft"] == pytest.approx(SIGMA_T, rel=0.10)
+    # the baseline recovered: offset and drift of both channels
+    assert w.baseline["Fn"](0.0) == pytest.approx(OFFSET_N, abs=0.5)
+    assert w.baseline["Fn"].slope == pytest.approx(DRIFT_N, rel=0.05)
+    assert w.baseline["Ft"].slope == pytest.approx(DRIFT_T, rel=0.2)
+    # impulse after baseline removal: Pn(t_c) = 2·m*·v0 (PHYSICS.md §4)
+    t = np.concatenate([[w.t_start], w.record["time"].values, [w.t_end]])
+    Fn = np.concatenate([[0.0], w.record["Fn"].values, [0.0]])
+    Pn = integrate.trapezoid(Fn, t)
+    assert Pn == pytest.approx(2.0 * IMPACT.m_eff * IMPACT.v0, rel=0.01)
+    # Ft = 0.2·Fn in the truth: its impulse follows once its own baseline is gone
+    Pt = integrate.trapezoid(np.concatenate([[0.0], w.record["Ft"].values, [0.0]]), t)
+    assert Pt == pytest.approx(0.2 * 2.0 * IMPACT.m_eff * IMPACT.v0, rel=0.03)
+    # raw input untouched
+    assert rec.identical(raw)
+    assert w.n_samples == w.record.sizes["time"]
+    assert w.record.attrs["baseline_removed"] == 1
+
+
+def test_window_does_not_fire_on_pure_noise():
+    rec = sensor_record(pulse=False)
+    with pytest.raises(InputError, match="no contact pulse found.*noise σ"):
+        find_contact(rec)
+
+
+def test_default_threshold_false_alarm_rate():
+    # Bonferroni: P(max |z| > k over n samples) ≤ α; check by Monte Carlo on white noise.
+    n, alpha = 1000, 0.05
+    k = default_threshold(n, alpha)
+    rng = np.random.default_rng(7)
+    z = rng.normal(size=(4000, n))
+    rate = np.mean(np.abs(z).max(axis=1) > k)
+    assert rate < alpha
+    assert rate > alpha / 2  # the bound is nearly tight for independent samples
+
+
+def test_negative_pulse_is_refused():
+    rec = sensor_record()
+    flipped = rec.copy(deep=True)
+    flipped["Fn"] = -flipped["Fn"]
+    with pytest.raises(InputError, match="compressive"):
+        find_contact(flipped)
+
+
+def test_digitised_record_passes_through():
+    t = np.linspace(0.0, IMPACT.t_c, 30)
+    F = hertz_pulse(t, IMPACT)["F"]
+    rec = make_record(
+        t, {"Fn": F, "Ft": 0.1 * F}, attrs={"source": "x.csv", "format": "wpd", "kind": "digitised"}
+    )
+    w = find_contact(rec)
+    assert (w.t_start, w.t_end) == (t[0], t[-1])
+    np.testing.assert_array_equal(w.record["Fn"].values, F)
+    assert w.record.attrs["baseline_removed"] == 0
+
+
+def test_simulated_record_window_brackets_positive_force():
+    h = 1e-6
+    t = np.arange(-20e-6, IMPACT.t_c + 20e-6, h) + 0.3e-6
+    F = hertz_pulse(t, IMPACT)["F"]
+    rec = make_record(
+        t,
+        {"Fn": F, "Ft": 0 * F},
+        attrs={"source": "sim", "format": "simulate", "kind": "simulated"},
+    )
+    w = find_contact(rec)
+    assert -h < w.t_start <= 0.0
+    assert IMPACT.t_c <= w.t_end < IMPACT.t_c + h
+    assert w.record["Fn"].values[0] == 0.0 and w.record["Fn"].values[-1] == 0.0
+
+
+def test_apply_window_to_the_raw_record_reproduces_the_window_record():
+    rec = sensor_record(seed=3)
+    w = find_contact(rec)
+    again = apply_window(rec, w)
+    np.testing.assert_array_equal(again["Fn"].values, w.record["Fn"].values)
