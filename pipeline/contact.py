@@ -12,7 +12,8 @@ An elastic impact at approach speed :math:`v_0` reaches
 
     \delta_{max} = \left(\frac{15\,m^* v_0^2}{16\,E^*\sqrt{R^*}}\right)^{2/5}, \quad
     F_{max} = K\delta_{max}^{3/2}, \quad
-    t_c = 0.8\,B(\tfrac25,\tfrac12)\,\frac{\delta_{max}}{v_0} = 2.943275\ldots\frac{\delta_{max}}{v_0}.
+    t_c = 0.8\,B(\tfrac25,\tfrac12)\,\frac{\delta_{max}}{v_0}
+        = 2.943275\ldots\frac{\delta_{max}}{v_0}.
 
 Damped laws of the Hunt–Crossley family share one force law
 :math:`F = K\delta^{3/2}(1 + c\,\dot\delta/v_0)` whose coefficient of restitution depends on
@@ -25,11 +26,12 @@ function ``force(delta, delta_dot, param, K, m_eff, v0)`` [N] and a calibration
 
 from __future__ import annotations
 
+import functools
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 import numpy as np
-from scipy import optimize, special
+from scipy import special
 
 from .errors import InputError
 from .scene import Scene
@@ -52,6 +54,8 @@ __all__ = [
     "c_hunt_crossley",
     "c_lankarani_nikravesh",
     "c_flores",
+    "cor_hunt_crossley_alpha",
+    "alpha_hunt_crossley",
     "mindlin_stiffness",
 ]
 
@@ -235,50 +239,234 @@ def c_flores(e):
     return 8.0 * (1.0 - e) / (5.0 * e)
 
 
-def _cor_scalar(c):
-    if c <= 0:
-        return 1.0
-    hi = min(1.0, 1.0 / c) * (1 - 1e-15)
+# Exact restitution of the Hunt–Crossley force law. With φ(x) = −ln(1−x) − x the energy
+# integral c(1+e) = ln[(1+c)/(1−ce)] reads φ(c·e) = φ(−c); dividing by c² and writing
+# Φ(x) = φ(x)/x² (Φ(0) = 1/2, increasing on (−∞, 1)) gives the well-conditioned form
+#     e²·Φ(c·e) = Φ(−c),
+# which keeps full precision as c → 0 (e → 1), where the original form cancels.
+_PHI_TERMS = 22  # Σ_{k=2}^{23} x^{k−2}/k: truncation < 1e-19 for |x| < 0.1
 
-    def g(e):
-        return c * (1 + e) - np.log1p(c) + np.log1p(-c * e)
 
-    return optimize.brentq(g, 0.0, hi, xtol=1e-15, rtol=1e-15)
+@np.errstate(over="ignore", under="ignore", invalid="ignore", divide="ignore")
+def _phi_reduced(x):
+    """Φ(x) = (−ln(1−x) − x)/x² and its derivative Φ'(x), for x < 1 (series near 0)."""
+    x = np.asarray(x, dtype=float)
+    small = np.abs(x) < 0.1
+    xs = np.where(small, x, 0.0)
+    s = np.zeros_like(xs)
+    ds = np.zeros_like(xs)
+    for k in range(_PHI_TERMS + 1, 1, -1):  # Horner, highest power first
+        s = s * xs + 1.0 / k
+    for k in range(_PHI_TERMS + 1, 2, -1):
+        ds = ds * xs + (k - 2.0) / k
+    xl = np.where(small, 0.5, x)
+    big = -np.log1p(-xl) - xl
+    big_x2 = big / xl / xl
+    phi = np.where(small, s, big_x2)
+    dphi = np.where(small, ds, (1.0 / (1.0 - xl) - 2.0 * big_x2) / xl)
+    return phi, dphi
+
+
+def _newton_increasing(fun, x0, lo, hi, rtol=2e-16, maxiter=200):
+    """Vectorised Newton for an increasing function, safeguarded by bisection.
+
+    ``fun(x, mask) -> (f, f')`` is evaluated on the still-active elements; the root lies
+    in (lo, hi) (f(lo) < 0 < f(hi)); iterates leaving the bracket are replaced by its
+    midpoint, so every element converges.
+    """
+    x, lo, hi = (np.array(a, dtype=float, copy=True) for a in np.broadcast_arrays(x0, lo, hi))
+    active = np.ones(x.shape, dtype=bool)
+    for _ in range(maxiter):
+        idx = np.nonzero(active)
+        if idx[0].size == 0:
+            break
+        xa, la, ha = x[idx], lo[idx], hi[idx]
+        f, df = fun(xa, idx)
+        zero = f == 0
+        la = np.where(f < 0, xa, la)
+        ha = np.where(f > 0, xa, ha)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            xn = xa - f / df
+        bad = ~((xn > la) & (xn < ha))
+        xn = np.where(bad, 0.5 * (la + ha), xn)
+        xn = np.where(zero, xa, xn)
+        done = zero | (np.abs(xn - xa) <= rtol * np.abs(xn)) | (ha - la <= rtol * np.abs(ha))
+        x[idx], lo[idx], hi[idx] = xn, la, ha
+        active[idx] = ~done
+    return x
+
+
+@np.errstate(over="ignore", under="ignore", invalid="ignore", divide="ignore")
+def _hc_cor(c):
+    """e(c) for c ≥ 0 (array): root of e·√Φ(c·e) = √Φ(−c) in (0, min(1, 1/c))."""
+    c = np.asarray(c, dtype=float)
+    out = np.ones_like(c)
+    pos = c > 0
+    if not np.any(pos):
+        return out
+    cp = c[pos]
+    rhs = np.sqrt(_phi_reduced(-cp)[0])
+    psi = np.where(cp < 0.1, cp * cp * rhs * rhs, cp - np.log1p(cp))  # ψ(c) = c − ln(1+c)
+    # Lambert-W start: 1 − x = −W0(−exp(−1−ψ)), x = c·e (exact, ill-conditioned at ψ → 0)
+    with np.errstate(under="ignore"):
+        w = special.lambertw(-np.exp(-1.0 - psi)).real
+    x0 = np.clip(1.0 + w, 0.0, 1.0)
+    cs = np.minimum(cp, 1e-3)
+    e0 = np.where(cp < 1e-3, 1.0 - 2.0 * cs / 3.0 + 4.0 * cs**2 / 9.0, x0 / cp)
+    hi = np.minimum(1.0, 1.0 / cp)
+    # ψ > 37: 1 − c·e < 1e-16, so e = 1/c to double precision
+    saturated = psi > 37.0
+    e0 = np.clip(e0, 0.0, hi)
+
+    def q(e, idx):
+        cc, r = cp[idx], rhs[idx]
+        x = np.minimum(cc * e, np.nextafter(1.0, 0.0))
+        p, dp = _phi_reduced(x)
+        sp = np.sqrt(p)
+        return e * sp - r, sp + e * cc * dp / (2.0 * sp)
+
+    e = _newton_increasing(q, e0, 0.0, hi)
+    out[pos] = np.where(saturated, 1.0 / cp, e)
+    return out
+
+
+@functools.cache
+def _hc_table():
+    """(e, ln c) on a grid, for Newton starting values (solved once, ~1 ms)."""
+    c = np.geomspace(1e-4, 1e3, 400)
+    return _hc_cor(c)[::-1], np.log(c)[::-1]
+
+
+@np.errstate(over="ignore", under="ignore", invalid="ignore", divide="ignore")
+def _hc_calibrate(e):
+    """c(e) for 0 < e ≤ 1 (array): root of e·√Φ(c·e) − √Φ(−c) in (0, 1/e)."""
+    e = np.asarray(e, dtype=float)
+    out = np.zeros_like(e)
+    damped = e < 1
+    if not np.any(damped):
+        return out
+    ed = e[damped]
+    te, tlc = _hc_table()
+    d = 1.0 - ed
+    c0 = np.where(
+        ed > te[-1],
+        1.5 * d + 1.5 * d**2,
+        np.where(ed < te[0], 1.0 / ed, np.exp(np.interp(ed, te, tlc))),
+    )
+    hi = 1.0 / ed
+    # ψ(1/e) > 37: the root is 1/e to double precision (1 − c·e < 1e-16)
+    saturated = (hi - np.log1p(hi)) > 37.0
+    c0 = np.clip(c0, 0.0, hi)
+
+    def r(c, idx):
+        ee = ed[idx]
+        x = np.minimum(c * ee, np.nextafter(1.0, 0.0))
+        p, dp = _phi_reduced(x)
+        pm, dpm = _phi_reduced(-c)
+        sp, spm = np.sqrt(p), np.sqrt(pm)
+        return ee * sp - spm, ee**2 * dp / (2.0 * sp) + dpm / (2.0 * spm)
+
+    c = _newton_increasing(r, c0, 0.0, hi)
+    out[damped] = np.where(saturated, hi, c)
+    return out
 
 
 def cor_hunt_crossley_family(c):
-    """Exact coefficient of restitution of F = K·δ^{3/2}(1 + c·δ̇/v0).
+    r"""Exact coefficient of restitution of F = K·δ^{3/2}·(1 + c·δ̇/v0).
 
-    Solves c·(1+e) = ln[(1+c)/(1−c·e)] (PHYSICS.md §4) for e ∈ (0, 1].
+    Parameters
+    ----------
+    c : float or array_like
+        Dimensionless damping [-], c ≥ 0. For a fixed material constant α [s/m] pass
+        ``c = α·v0`` (see :func:`cor_hunt_crossley_alpha`).
+
+    Returns
+    -------
+    float or numpy.ndarray
+        Restitution e ∈ (0, 1] [-]; e = 1 for c = 0, e → 1/c as c → ∞.
+
+    Notes
+    -----
+    The energy integral of the law (no ODE) gives, PHYSICS.md §4,
+
+    .. math:: c\,(1+e) = \ln\frac{1+c}{1-c\,e}.
+
+    With :math:`\Phi(x) = (-\ln(1-x) - x)/x^2` it reads :math:`e^2\,\Phi(ce) = \Phi(-c)`, which
+    is solved by vectorised, bisection-safeguarded Newton iteration to double precision over
+    the whole range (a power series for Φ near 0 keeps e → 1 exact).
+
+    References
+    ----------
+    K. H. Hunt, F. R. E. Crossley, J. Appl. Mech. 42:440 (1975), doi:10.1115/1.3423596.
     """
-    return _f(np.vectorize(_cor_scalar, otypes=[float])(np.asarray(c, dtype=float)))
-
-
-def _c_scalar(e):
-    if e >= 1.0:
-        return 0.0
-
-    def h(c):
-        return c * (1 + e) - np.log1p(c) + np.log1p(-c * e)
-
-    hi = (1.0 / e) * (1 - 1e-15) if e > 0 else np.inf
-    lo = 1e-12
-    # h > 0 for small c and → −∞ at c → 1/e
-    return optimize.brentq(h, lo, hi, xtol=1e-15, rtol=1e-15)
+    c_arr = np.asarray(c, dtype=float)
+    if np.any(~(c_arr >= 0)) or np.any(~np.isfinite(c_arr)):
+        raise InputError(f"Hunt–Crossley damping c must be finite and ≥ 0; got c = {c!r}")
+    return _f(_hc_cor(c_arr))
 
 
 def calibrate_hunt_crossley_family(e):
-    """The damping c giving restitution e exactly (no ODE), for any e ∈ (0, 1].
+    r"""The damping c giving restitution e exactly (no ODE), for any e ∈ (0, 1].
+
+    Parameters
+    ----------
+    e : float or array_like
+        Requested coefficient of restitution [-], 0 < e ≤ 1.
+
+    Returns
+    -------
+    float or numpy.ndarray
+        c [-] with ``cor_hunt_crossley_family(c) == e`` to ~1e-15 (0 for e = 1; 1/e as e → 0).
 
     Raises
     ------
     InputError
-        For e outside (0, 1].
+        For e outside (0, 1] (e = 0 needs c = ∞).
+
+    Notes
+    -----
+    Inverts :math:`e^2\,\Phi(ce) = \Phi(-c)` (see :func:`cor_hunt_crossley_family`) by
+    bisection-safeguarded Newton iteration from a table of e(c) solved once.
+
+    References
+    ----------
+    K. H. Hunt, F. R. E. Crossley, J. Appl. Mech. 42:440 (1975), doi:10.1115/1.3423596.
     """
     e_arr = np.asarray(e, dtype=float)
-    if np.any((e_arr <= 0) | (e_arr > 1)):
-        raise InputError(f"Hunt–Crossley-type laws reach every e in (0, 1]; got e = {e!r}")
-    return _f(np.vectorize(_c_scalar, otypes=[float])(e_arr))
+    if np.any(~((e_arr > 0) & (e_arr <= 1))):
+        raise InputError(
+            "Hunt–Crossley-type laws reach every e in the range (0, 1] (e = 0 would need "
+            f"infinite damping); got e = {e!r}"
+        )
+    return _f(_hc_calibrate(e_arr))
+
+
+def cor_hunt_crossley_alpha(alpha, v0):
+    """Restitution of the Hunt–Crossley law with a fixed material constant α = c/v0.
+
+    Parameters
+    ----------
+    alpha : float or array_like — damping constant α [s/m], ≥ 0
+    v0 : float or array_like — normal approach speed [m/s], > 0
+
+    Returns
+    -------
+    e [-]: ``cor_hunt_crossley_family(alpha * v0)``; falls as the speed rises.
+
+    Notes
+    -----
+    Hunt & Crossley's force F = K·δ^{3/2}(1 + α·δ̇) has a speed-independent α [s/m];
+    the dimensionless damping of an impact at v0 is c = α·v0.
+    """
+    return cor_hunt_crossley_family(np.asarray(alpha, dtype=float) * np.asarray(v0, dtype=float))
+
+
+def alpha_hunt_crossley(e, v0):
+    """The material constant α = c(e)/v0 [s/m] that gives restitution e at speed v0 [m/s].
+
+    Inverse of :func:`cor_hunt_crossley_alpha`; e ∈ (0, 1], v0 > 0.
+    """
+    return _f(np.asarray(calibrate_hunt_crossley_family(e)) / np.asarray(v0, dtype=float))
 
 
 @dataclass(frozen=True)
@@ -292,6 +480,13 @@ class NormalLaw:
     calibrate : callable ``e -> param``, exact to ±0.001 in e at least
     closed_form : callable ``e -> param`` or None — the paper's own guess
     parameter : str — name and unit of the damping parameter
+    material_to_param : callable ``(const, K, m_eff, v0) -> param``
+        Maps the law's speed-independent material constant (see ``material``) to the
+        damping parameter of an impact at approach speed v0 [m/s] (K [N/m^1.5], m_eff
+        [kg]); so a campaign can hold the material fixed and let e vary with speed.
+    material : str — name and unit of that material constant
+    cor : callable ``param -> e`` or None — the restitution a parameter actually gives
+    e_range : (float, float) — the closure of the reachable range of e
     """
 
     name: str
@@ -299,6 +494,10 @@ class NormalLaw:
     calibrate: Callable
     closed_form: Callable | None = None
     parameter: str = "c [-]"
+    material_to_param: Callable | None = None
+    material: str = ""
+    cor: Callable | None = None
+    e_range: tuple[float, float] = (0.0, 1.0)
 
 
 def _hc_force(delta, delta_dot, c, K, m_eff, v0):
@@ -309,20 +508,49 @@ def _hertz_force(delta, delta_dot, c, K, m_eff, v0):
     return hertz(delta, K)
 
 
+def _hc_material_to_param(alpha, K, m_eff, v0):
+    """Hunt–Crossley family: c = α·v0 (α [s/m])."""
+    return _f(np.asarray(alpha, dtype=float) * np.asarray(v0, dtype=float))
+
+
 def _hertz_calibrate(e):
     if np.any(np.asarray(e) != 1):
-        raise InputError(f"the elastic 'hertz' law only reaches e = 1; got e = {e!r}. "
-                         "Choose a damped law such as normal='hunt_crossley'.")
+        raise InputError(
+            f"the elastic 'hertz' law only reaches e = 1; got e = {e!r}. "
+            "Choose a damped law such as normal='hunt_crossley'."
+        )
     return 0.0
 
 
+def _hc_law(name, closed_form):
+    return NormalLaw(
+        name,
+        _hc_force,
+        calibrate_hunt_crossley_family,
+        closed_form,
+        "c [-]",
+        material_to_param=_hc_material_to_param,
+        material="alpha [s/m] (c = alpha*v0)",
+        cor=cor_hunt_crossley_family,
+        e_range=(0.0, 1.0),
+    )
+
+
 NORMAL_LAWS: dict[str, NormalLaw] = {
-    "hertz": NormalLaw("hertz", _hertz_force, _hertz_calibrate, None, "none"),
-    "hunt_crossley": NormalLaw("hunt_crossley", _hc_force, calibrate_hunt_crossley_family,
-                               c_hunt_crossley),
-    "lankarani_nikravesh": NormalLaw("lankarani_nikravesh", _hc_force,
-                                     calibrate_hunt_crossley_family, c_lankarani_nikravesh),
-    "flores": NormalLaw("flores", _hc_force, calibrate_hunt_crossley_family, c_flores),
+    "hertz": NormalLaw(
+        "hertz",
+        _hertz_force,
+        _hertz_calibrate,
+        None,
+        "none",
+        material_to_param=lambda const, K, m_eff, v0: 0.0,
+        material="none",
+        cor=lambda p: _f(np.ones_like(np.asarray(p, dtype=float))),
+        e_range=(1.0, 1.0),
+    ),
+    "hunt_crossley": _hc_law("hunt_crossley", c_hunt_crossley),
+    "lankarani_nikravesh": _hc_law("lankarani_nikravesh", c_lankarani_nikravesh),
+    "flores": _hc_law("flores", c_flores),
 }
 
 
