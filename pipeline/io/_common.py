@@ -9,6 +9,7 @@ import numbers
 import os
 import re
 import tempfile
+import threading
 from pathlib import Path
 
 import numpy as np
@@ -30,8 +31,28 @@ __all__ = [
 PLANE_TOLERANCE = 0.05
 
 
-def read_raw(path) -> tuple[Path, bytes, str]:
+class BackgroundHash:
+    """SHA-256 of a bytes object computed in a thread (hashlib releases the GIL), so a large
+    file is hashed while pandas' C parser, which also releases it, tokenises the table."""
+
+    def __init__(self, raw: bytes):
+        self._digest = None
+        self._thread = threading.Thread(target=self._run, args=(raw,), daemon=True)
+        self._thread.start()
+
+    def _run(self, raw):
+        self._digest = hashlib.sha256(raw).hexdigest()
+
+    def hexdigest(self) -> str:
+        self._thread.join()
+        return self._digest
+
+
+def read_raw(path, *, background_hash: bool = False) -> tuple[Path, bytes, str]:
     """Read a file's bytes; return ``(path, raw, sha256 hex digest)``.
+
+    With ``background_hash=True`` the third item is a :class:`BackgroundHash` (call its
+    ``hexdigest()``) instead of the digest string.
 
     Raises
     ------
@@ -50,6 +71,8 @@ def read_raw(path) -> tuple[Path, bytes, str]:
         raise InputError("no such file; check the path", path=p) from None
     except OSError as exc:
         raise InputError(f"cannot read the file ({exc.strerror or exc})", path=p) from exc
+    if background_hash and len(raw) > (1 << 20):
+        return p, raw, BackgroundHash(raw)
     return p, raw, hashlib.sha256(raw).hexdigest()
 
 

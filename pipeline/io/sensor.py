@@ -38,7 +38,6 @@ parse shows a problem does a slower pass locate the exact line and column for th
 from __future__ import annotations
 
 import io
-import os
 import re
 from pathlib import Path
 
@@ -175,12 +174,375 @@ def read_sensor(path, *, time_unit=None, force_unit=None, axes=None, encoding=No
         When max|Fy| exceeds 5 % of max|Fn|.
     """
     scene = scene_attrs(scene_fields)
-    p, raw, sha = read_raw(path)
-    text = decode(raw, p, encoding)
-    return _parse_sensor_text(
-        text, p, sha, time_unit=time_unit, force_unit=force_unit, axes=axes, scene=scene
+    p, raw, sha = read_raw(path, background_hash=True)
+    return parse_sensor_bytes(
+        raw,
+        p,
+        sha,
+        time_unit=time_unit,
+        force_unit=force_unit,
+        axes=axes,
+        scene=scene,
+        encoding=encoding,
     )
 
 
-def _parse_sensor_text(text, p, sha, **kw):  # replaced by the full parser in the next commit
-    raise NotImplementedError("read_sensor is being written")
+# --------------------------------------------------------------------- the text parser
+_TIME_NAMES = {"time", "t"}
+_LINE_END = re.compile(r"\r\n|\n|\r")
+_FORCE_NAMES = {"fn": "Fn", "ft": "Ft", "fx": "Fx", "fy": "Fy", "fz": "Fz"}
+
+
+def _canonical(name: str) -> str:
+    """``"F_z"``, ``"fz"``, ``"Fz"`` → ``"Fz"``; ``"Time"`` → ``"time"``; else the name."""
+    key = name.replace("_", "").replace(" ", "").lower()
+    if key in _TIME_NAMES:
+        return "time"
+    return _FORCE_NAMES.get(key, name)
+
+
+def _split_head(text: str, p: Path):
+    """Metadata, header line and the body's start: a loop over the head lines only."""
+    if not text or text.isspace():
+        raise InputError("file is empty; export the record again", path=p)
+    meta, comments = {}, []
+    pos, lineno = 0, 0
+    while pos <= len(text):
+        nl = text.find("\n", pos)
+        end = len(text) if nl < 0 else nl
+        line = text[pos:end].rstrip("\r")
+        lineno += 1
+        stripped = line.strip()
+        nxt = len(text) + 1 if nl < 0 else nl + 1
+        if stripped.startswith("#"):
+            body = stripped.lstrip("#").strip()
+            m = re.match(r"^([^:=]+?)\s*[:=]\s*(.*)$", body)
+            if m:
+                meta[meta_key(m.group(1))] = m.group(2).strip()
+            elif body:
+                comments.append(body)
+        elif stripped:
+            if comments:
+                meta.setdefault("meta_comment", "\n".join(comments))
+            return meta, line, lineno, min(nxt, len(text))
+        pos = nxt
+    raise InputError(
+        "no header row: the file holds only '#' metadata lines; a sensor CSV needs a header "
+        "such as 'time [s],Fx [N],Fy [N],Fz [N]' followed by data rows",
+        path=p,
+    )
+
+
+def _sniff_separator(header: str, p: Path, lineno: int) -> str:
+    counts = {sep: header.count(sep) for sep in (";", "\t", ",")}
+    sep = max(counts, key=lambda k: counts[k])
+    if counts[sep] == 0:
+        raise InputError(
+            f"header {header.strip()!r} has a single column; a sensor CSV needs a time "
+            "column and force columns separated by ',', ';' or tab",
+            path=p,
+            line=lineno,
+        )
+    return sep
+
+
+def _sniff_decimal(sample: str, sep: str) -> str:
+    if sep == ",":
+        return "."
+    return "," if "," in sample else "."
+
+
+class _LazyText:
+    """A UTF-8 body kept as bytes; decoded only when an error message needs its lines."""
+
+    def __init__(self, raw: bytes, offset: int, p: Path, header_line: int):
+        self.raw, self.offset, self.p, self.header_line = raw, offset, p, header_line
+
+    def __getitem__(self, item: slice):
+        start = self.offset + (item.start or 0)
+        stop = self.offset + item.stop
+        return self.raw[start:stop].decode("utf-8", errors="replace")
+
+    @property
+    def data(self) -> bytes:
+        return self.raw[self.offset :]
+
+    def __str__(self):
+        try:
+            return self.data.decode("utf-8")
+        except UnicodeDecodeError as exc:
+            line = self.header_line + self.data[: exc.start].count(b"\n") + 1
+            raise InputError(
+                f"bytes at offset {exc.start} of the table are not valid UTF-8; re-save "
+                "the file as UTF-8, or for a legacy Windows export call "
+                "pipeline.io.read_sensor(path, encoding='cp1252')",
+                path=self.p,
+                line=line,
+            ) from exc
+
+
+def _resolve_axes(columns: dict, axes, p: Path) -> dict:
+    """Record channel → (file column, sign)."""
+    available = ", ".join(columns) or "none"
+    if axes is not None and not isinstance(axes, dict):
+        raise InputError(
+            f"axes must be a dict such as {{'Fn': 'Fz', 'Ft': '-Fx'}}, got {axes!r}", path=p
+        )
+    chosen: dict = {}
+    used = set()
+    for name, spec in (axes or {}).items():
+        if name not in FORCE_CHANNELS:
+            raise InputError(
+                f"axes key {name!r} is not a record channel; use {', '.join(FORCE_CHANNELS)}",
+                path=p,
+            )
+        if spec is None:
+            chosen[name] = None
+            continue
+        if not isinstance(spec, str) or not spec.strip():
+            raise InputError(f"axes[{name!r}] must be a column name such as '-Fx'", path=p)
+        spec = spec.strip()
+        sign = -1.0 if spec.startswith("-") else 1.0
+        col = _canonical(spec.lstrip("+-").strip())
+        if col not in columns:
+            raise InputError(
+                f"axes[{name!r}] = {spec!r} names no force column of the file "
+                f"(force columns: {available})",
+                path=p,
+            )
+        if col in used:
+            raise InputError(f"axes maps column {col!r} to two channels", path=p)
+        used.add(col)
+        chosen[name] = (col, sign)
+    for name in FORCE_CHANNELS:
+        if name in chosen:
+            continue
+        for col in (name, DEFAULT_AXES[name]):
+            if col in columns and col not in used:
+                chosen[name] = (col, 1.0)
+                used.add(col)
+                break
+    chosen = {k: v for k, v in chosen.items() if v is not None}
+    if "Fn" not in chosen:
+        raise InputError(
+            f"no normal-force channel: the file has no 'Fn' or 'Fz' column (force columns: "
+            f"{available}); name the normal-force column, e.g. axes={{'Fn': 'Fx'}}",
+            path=p,
+        )
+    return chosen
+
+
+def _data_lines(body: str, first_line: int):
+    """(line number, text) of every non-blank body line (error path only)."""
+    for k, line in enumerate(_LINE_END.split(body)):
+        if line.strip():
+            yield first_line + k, line
+
+
+def _row_line(body: str, first_line: int, row: int) -> int | None:
+    for i, (lineno, _) in enumerate(_data_lines(body, first_line)):
+        if i == row:
+            return lineno
+    return None
+
+
+def _diagnose(body, first_line, sep, dec, names, p, original):
+    """Find the first malformed body line and raise an InputError that names it."""
+    n = len(names)
+    for lineno, line in _data_lines(body, first_line):
+        cells = line.rstrip("\r").split(sep)
+        if len(cells) != n:
+            raise InputError(
+                f"has {len(cells)} fields but the header has {n}; check for a stray or "
+                "missing separator",
+                path=p,
+                line=lineno,
+            ) from original
+        for name, cell in zip(names, cells, strict=True):
+            if name is None:
+                continue
+            c = cell.strip().strip('"')
+            if dec == ",":
+                c = c.replace(",", ".")
+            try:
+                float(c)
+            except ValueError:
+                raise InputError(
+                    f"cell {cell.strip()!r} is not a number; fix or delete this line "
+                    f"(decimal {'comma' if dec == ',' else 'point'} expected)",
+                    path=p,
+                    line=lineno,
+                    column=name,
+                ) from original
+    raise InputError(
+        f"cannot parse the table ({original}); check the separator and decimal mark",
+        path=p,
+    ) from original
+
+
+def _head_and_body(raw: bytes, p: Path, encoding):
+    """Split a file into its decoded head (metadata + header) and its body.
+
+    UTF-8 files (the usual case) keep the body as bytes, handed to pandas' C parser without a
+    decode-and-copy; other encodings are decoded in full and the body passed as text.
+    """
+    if encoding is not None or raw.startswith((b"\xff\xfe", b"\xfe\xff")):
+        text = decode(raw, p, encoding)
+        return text, None, text
+    start = 3 if raw.startswith(b"\xef\xbb\xbf") else 0
+    pos = start
+    while pos < len(raw):
+        nl = raw.find(b"\n", pos)
+        end = len(raw) if nl < 0 else nl + 1
+        stripped = raw[pos:end].strip()
+        pos = end
+        if stripped and not stripped.startswith(b"#"):
+            break
+    head = decode(raw[start:pos], p)
+    return head, pos, None
+
+
+def parse_sensor_bytes(
+    raw,
+    p,
+    sha,
+    *,
+    time_unit=None,
+    force_unit=None,
+    axes=None,
+    scene=None,
+    encoding=None,
+    fmt="sensor_csv",
+):
+    """Parse the bytes of a sensor CSV (``p`` and ``sha`` for messages and attributes)."""
+    head, body_offset, full_text = _head_and_body(raw, p, encoding)
+    meta, header, header_line, body_start = _split_head(head, p)
+    if full_text is not None:
+        body = full_text[body_start:]
+        body_source = io.StringIO(body)
+    else:
+        # BytesIO over the bytes object shares its buffer: no copy of a large file.
+        body_source = io.BytesIO(raw)
+        body_source.seek(body_offset)
+        body = _LazyText(raw, body_offset, p, header_line)
+    sep = _sniff_separator(header, p, header_line)
+    dec = _sniff_decimal(body[:4096], sep)
+    raw_names = [h.strip().strip('"').strip() for h in header.split(sep)]
+    time_col, force_cols, ignored = None, {}, []
+    for j, h in enumerate(raw_names):
+        base, unit = split_unit(h)
+        canon = _canonical(base)
+        if canon == "time":
+            if time_col is not None:
+                raise InputError(f"two time columns ({h!r})", path=p, line=header_line)
+            time_col = (j, h, unit)
+        elif canon in _FORCE_NAMES.values():
+            if canon in force_cols:
+                raise InputError(f"two {canon} columns", path=p, line=header_line, column=h)
+            force_cols[canon] = (j, h, unit)
+        elif h:
+            ignored.append(h)
+    if time_col is None:
+        raise InputError(
+            f"no time column in the header {header.strip()!r}; name it 'time [s]' (or 't' "
+            "with its unit)",
+            path=p,
+            line=header_line,
+        )
+    chosen = _resolve_axes(force_cols, axes, p)
+    t_factor, t_unit = resolve_unit("time", time_col[2], time_unit, path=p, column=time_col[1])
+    f_factors = {}
+    for name, (col, _) in chosen.items():
+        j, h, unit = force_cols[col]
+        f_factors[name] = resolve_unit("force", unit, force_unit, path=p, column=h)
+    f_units = {u for _, u in f_factors.values()}
+
+    # The body: pandas' C parser, no Python loop over rows.
+    wanted = {time_col[0]: "time"}
+    for col, _sign in chosen.values():
+        wanted[force_cols[col][0]] = col
+    names = [wanted.get(j) for j in range(len(raw_names))]
+    labels = [f"c{j}" for j in range(len(raw_names))]
+    first_line = header_line + 1
+    try:
+        frame = pd.read_csv(
+            body_source,
+            sep=sep,
+            decimal=dec,
+            header=None,
+            names=labels,
+            usecols=[labels[j] for j in sorted(wanted)],
+            index_col=False,
+            dtype=float,
+            engine="c",
+            skip_blank_lines=True,
+        )
+    except (ValueError, pd.errors.ParserError, pd.errors.EmptyDataError) as exc:
+        shown = [raw_names[j] if names[j] else None for j in range(len(raw_names))]
+        _diagnose(str(body), first_line, sep, dec, shown, p, exc)
+    n = len(frame)
+    if n == 0:
+        raise InputError("header only: the file has no data rows", path=p, line=header_line)
+    if n == 1:
+        raise InputError(
+            "a single sample: a record needs at least two time samples", path=p, line=first_line
+        )
+    cols = {wanted[int(lab[1:])]: frame[lab].to_numpy() for lab in frame.columns}
+    # Too few fields on a line fill NaN silently: check every used column for non-finite.
+    for key, values in cols.items():
+        bad = ~np.isfinite(values)
+        if bad.any():
+            row = int(np.argmax(bad))
+            line = _row_line(str(body), first_line, row)
+            shown = [raw_names[j] if names[j] else None for j in range(len(raw_names))]
+            cells = None
+            if line is not None:
+                cells = _LINE_END.split(str(body))[line - first_line].split(sep)
+            if cells is not None and len(cells) != len(raw_names):
+                raise InputError(
+                    f"has {len(cells)} fields but the header has {len(raw_names)}; check for "
+                    "a stray or missing separator",
+                    path=p,
+                    line=line,
+                )
+            col_name = shown[[names[j] for j in range(len(names))].index(key)]
+            what = "time" if key == "time" else "force"
+            raise InputError(
+                f"{what} value {values[row]!r} is missing, NaN or infinite; repair or delete "
+                "this line",
+                path=p,
+                line=line,
+                column=col_name,
+            )
+    t = cols["time"] * t_factor if t_factor != 1.0 else cols["time"]
+    steps = np.diff(t)
+    if not np.all(steps > 0):
+        i = int(np.argmax(~(steps > 0)))
+        line = _row_line(str(body), first_line, i + 1)
+        verb = "repeats" if steps[i] == 0 else "goes backwards"
+        raise InputError(
+            f"time {verb} ({cols['time'][i]!r} then {cols['time'][i + 1]!r} {t_unit}); time "
+            "must strictly increase: remove duplicate rows or sort the file",
+            path=p,
+            line=line,
+            column=time_col[1],
+        )
+    forces = {}
+    for name, (col, sign) in chosen.items():
+        factor = f_factors[name][0] * sign
+        values = cols[col]
+        forces[name] = values * factor if factor != 1.0 else values
+    check_plane(forces, p)
+    if not isinstance(sha, str):
+        sha = sha.hexdigest()
+    attrs = base_attrs(p, sha, fmt, "sensor")
+    attrs["source_time_unit"] = t_unit
+    attrs["source_force_unit"] = ",".join(sorted(f_units))
+    attrs["axes"] = ",".join(
+        f"{name}={'-' if sign < 0 else ''}{col}" for name, (col, sign) in chosen.items()
+    )
+    if ignored:
+        attrs["ignored_columns"] = ",".join(ignored)
+    attrs.update(meta)
+    attrs.update(scene or {})
+    return make_record(t, forces, attrs=attrs)
