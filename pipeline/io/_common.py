@@ -15,9 +15,13 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError, PlaneImpactWarning
+from ..record import FORCE_CHANNELS
 from ..scene import Scene
 
 __all__ = [
+    "DEFAULT_AXES",
+    "canonical_column",
+    "resolve_axes",
     "read_raw",
     "decode",
     "scene_attrs",
@@ -26,6 +30,13 @@ __all__ = [
     "check_plane",
     "meta_key",
 ]
+
+#: Default map from record channel to tri-axial column (the seed's sensor: Oz normal,
+#: Ox tangential, Oy out of plane).
+DEFAULT_AXES = {"Fn": "Fz", "Ft": "Fx", "Fy": "Fy"}
+TIME_NAMES = {"time", "t"}
+FORCE_NAMES = {"fn": "Fn", "ft": "Ft", "fx": "Fx", "fy": "Fy", "fz": "Fz"}
+FORCE_COLUMNS = tuple(FORCE_NAMES.values())
 
 #: Out-of-plane peak above this fraction of the normal peak triggers PlaneImpactWarning.
 PLANE_TOLERANCE = 0.05
@@ -187,3 +198,62 @@ def check_plane(forces: dict, path) -> None:
             PlaneImpactWarning,
             stacklevel=4,
         )
+
+
+def canonical_column(name: str) -> str:
+    """``"F_z"``, ``"fz"``, ``"Fz"`` → ``"Fz"``; ``"Time"`` → ``"time"``; else the name."""
+    key = name.replace("_", "").replace(" ", "").lower()
+    if key in TIME_NAMES:
+        return "time"
+    return FORCE_NAMES.get(key, name)
+
+
+def resolve_axes(columns: dict, axes, p: Path) -> dict:
+    """Record channel → (file column, sign)."""
+    available = ", ".join(columns) or "none"
+    if axes is not None and not isinstance(axes, dict):
+        raise InputError(
+            f"axes must be a dict such as {{'Fn': 'Fz', 'Ft': '-Fx'}}, got {axes!r}", path=p
+        )
+    chosen: dict = {}
+    used = set()
+    for name, spec in (axes or {}).items():
+        if name not in FORCE_CHANNELS:
+            raise InputError(
+                f"axes key {name!r} is not a record channel; use {', '.join(FORCE_CHANNELS)}",
+                path=p,
+            )
+        if spec is None:
+            chosen[name] = None
+            continue
+        if not isinstance(spec, str) or not spec.strip():
+            raise InputError(f"axes[{name!r}] must be a column name such as '-Fx'", path=p)
+        spec = spec.strip()
+        sign = -1.0 if spec.startswith("-") else 1.0
+        col = canonical_column(spec.lstrip("+-").strip())
+        if col not in columns:
+            raise InputError(
+                f"axes[{name!r}] = {spec!r} names no force column of the file "
+                f"(force columns: {available})",
+                path=p,
+            )
+        if col in used:
+            raise InputError(f"axes maps column {col!r} to two channels", path=p)
+        used.add(col)
+        chosen[name] = (col, sign)
+    for name in FORCE_CHANNELS:
+        if name in chosen:
+            continue
+        for col in (name, DEFAULT_AXES[name]):
+            if col in columns and col not in used:
+                chosen[name] = (col, 1.0)
+                used.add(col)
+                break
+    chosen = {k: chosen[k] for k in FORCE_CHANNELS if chosen.get(k) is not None}
+    if "Fn" not in chosen:
+        raise InputError(
+            f"no normal-force channel: the file has no 'Fn' or 'Fz' column (force columns: "
+            f"{available}); name the normal-force column, e.g. axes={{'Fn': 'Fx'}}",
+            path=p,
+        )
+    return chosen

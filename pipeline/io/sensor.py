@@ -45,22 +45,24 @@ import numpy as np
 import pandas as pd
 
 from ..errors import InputError
-from ..record import FORCE_CHANNELS, make_record
+from ..record import make_record
 from ._common import (
+    DEFAULT_AXES,
+    FORCE_COLUMNS,
     atomic_write_text,
     base_attrs,
+    canonical_column,
     check_plane,
     decode,
     meta_key,
     read_raw,
+    resolve_axes,
     scene_attrs,
 )
 from .units import resolve_unit, split_unit
 
 __all__ = ["read_sensor", "write_sensor", "DEFAULT_AXES"]
 
-#: Default map from record channel to tri-axial file column (seed's sensor: Oz normal).
-DEFAULT_AXES = {"Fn": "Fz", "Ft": "Fx", "Fy": "Fy"}
 
 #: File column written for each record channel by :func:`write_sensor`.
 _WRITE_COLUMNS = (("Ft", "Fx"), ("Fy", "Fy"), ("Fn", "Fz"))
@@ -188,17 +190,7 @@ def read_sensor(path, *, time_unit=None, force_unit=None, axes=None, encoding=No
 
 
 # --------------------------------------------------------------------- the text parser
-_TIME_NAMES = {"time", "t"}
 _LINE_END = re.compile(r"\r\n|\n|\r")
-_FORCE_NAMES = {"fn": "Fn", "ft": "Ft", "fx": "Fx", "fy": "Fy", "fz": "Fz"}
-
-
-def _canonical(name: str) -> str:
-    """``"F_z"``, ``"fz"``, ``"Fz"`` → ``"Fz"``; ``"Time"`` → ``"time"``; else the name."""
-    key = name.replace("_", "").replace(" ", "").lower()
-    if key in _TIME_NAMES:
-        return "time"
-    return _FORCE_NAMES.get(key, name)
 
 
 def _split_head(text: str, p: Path):
@@ -279,57 +271,6 @@ class _LazyText:
                 path=self.p,
                 line=line,
             ) from exc
-
-
-def _resolve_axes(columns: dict, axes, p: Path) -> dict:
-    """Record channel → (file column, sign)."""
-    available = ", ".join(columns) or "none"
-    if axes is not None and not isinstance(axes, dict):
-        raise InputError(
-            f"axes must be a dict such as {{'Fn': 'Fz', 'Ft': '-Fx'}}, got {axes!r}", path=p
-        )
-    chosen: dict = {}
-    used = set()
-    for name, spec in (axes or {}).items():
-        if name not in FORCE_CHANNELS:
-            raise InputError(
-                f"axes key {name!r} is not a record channel; use {', '.join(FORCE_CHANNELS)}",
-                path=p,
-            )
-        if spec is None:
-            chosen[name] = None
-            continue
-        if not isinstance(spec, str) or not spec.strip():
-            raise InputError(f"axes[{name!r}] must be a column name such as '-Fx'", path=p)
-        spec = spec.strip()
-        sign = -1.0 if spec.startswith("-") else 1.0
-        col = _canonical(spec.lstrip("+-").strip())
-        if col not in columns:
-            raise InputError(
-                f"axes[{name!r}] = {spec!r} names no force column of the file "
-                f"(force columns: {available})",
-                path=p,
-            )
-        if col in used:
-            raise InputError(f"axes maps column {col!r} to two channels", path=p)
-        used.add(col)
-        chosen[name] = (col, sign)
-    for name in FORCE_CHANNELS:
-        if name in chosen:
-            continue
-        for col in (name, DEFAULT_AXES[name]):
-            if col in columns and col not in used:
-                chosen[name] = (col, 1.0)
-                used.add(col)
-                break
-    chosen = {k: v for k, v in chosen.items() if v is not None}
-    if "Fn" not in chosen:
-        raise InputError(
-            f"no normal-force channel: the file has no 'Fn' or 'Fz' column (force columns: "
-            f"{available}); name the normal-force column, e.g. axes={{'Fn': 'Fx'}}",
-            path=p,
-        )
-    return chosen
 
 
 def _data_lines(body: str, first_line: int):
@@ -431,12 +372,12 @@ def parse_sensor_bytes(
     time_col, force_cols, ignored = None, {}, []
     for j, h in enumerate(raw_names):
         base, unit = split_unit(h)
-        canon = _canonical(base)
+        canon = canonical_column(base)
         if canon == "time":
             if time_col is not None:
                 raise InputError(f"two time columns ({h!r})", path=p, line=header_line)
             time_col = (j, h, unit)
-        elif canon in _FORCE_NAMES.values():
+        elif canon in FORCE_COLUMNS:
             if canon in force_cols:
                 raise InputError(f"two {canon} columns", path=p, line=header_line, column=h)
             force_cols[canon] = (j, h, unit)
@@ -449,7 +390,7 @@ def parse_sensor_bytes(
             path=p,
             line=header_line,
         )
-    chosen = _resolve_axes(force_cols, axes, p)
+    chosen = resolve_axes(force_cols, axes, p)
     t_factor, t_unit = resolve_unit("time", time_col[2], time_unit, path=p, column=time_col[1])
     f_factors = {}
     for name, (col, _) in chosen.items():

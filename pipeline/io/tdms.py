@@ -1,0 +1,237 @@
+"""NI TDMS files (LabVIEW / NI DAQ), read with npTDMS (the ``tdms`` extra).
+
+A TDMS file holds groups of channels. The reader takes the group whose channels are named
+like forces (``Fn``, ``Ft``, ``Fx``, ``Fy``, ``Fz``, optionally with a unit, ``Fz (kN)``),
+or the group named by ``group=``. Tri-axial channels map as in the sensor CSV (Fz → Fn,
+Fx → Ft, Fy → Fy; ``axes=`` overrides, see :mod:`pipeline.io.sensor`).
+
+Time: a channel named ``time`` (or ``t``) in the group when there is one (unit from its
+``unit_string`` property); otherwise the waveform properties of the force channels —
+``wf_start_offset`` + k·``wf_increment`` for k < ``wf_samples`` (npTDMS's
+``channel.time_track()``), in ``wf_xunit_string`` (NI's default: seconds). All force
+channels must share one time track. Force units come from each channel's ``unit_string``
+property; ``force_unit=`` supplies one where the file has none.
+"""
+
+from __future__ import annotations
+
+import io
+
+import numpy as np
+
+from ..errors import InputError
+from ..record import make_record
+from ._common import (
+    FORCE_COLUMNS,
+    base_attrs,
+    canonical_column,
+    check_plane,
+    read_raw,
+    resolve_axes,
+    scene_attrs,
+)
+from .units import resolve_unit, split_unit
+
+__all__ = ["read_tdms"]
+
+
+def _open(raw: bytes, p):
+    try:
+        from nptdms import TdmsFile
+    except ImportError as exc:  # pragma: no cover - the tdms extra is installed in dev
+        raise InputError("reading TDMS needs npTDMS: pip install 'pipeline[tdms]'", path=p) from exc
+    if not raw.startswith(b"TDSm"):
+        raise InputError(
+            "not a TDMS file (it does not start with the 'TDSm' tag); export the "
+            "measurement as .tdms again",
+            path=p,
+        )
+    try:
+        return TdmsFile.read(io.BytesIO(raw))
+    except Exception as exc:  # npTDMS raises many types on a corrupt file
+        raise InputError(
+            f"cannot read this TDMS file ({type(exc).__name__}: {exc}); it is corrupt or "
+            "truncated — copy it again from the acquisition PC",
+            path=p,
+        ) from exc
+
+
+def _columns(group):
+    """``{canonical name: channel}`` and the time channel (or None) of a group."""
+    forces, time = {}, None
+    for ch in group.channels():
+        base, _ = split_unit(ch.name)
+        canon = canonical_column(base)
+        if canon == "time":
+            time = ch
+        elif canon in FORCE_COLUMNS:
+            forces[canon] = ch
+    return forces, time
+
+
+def _prop(ch, name, default=None):
+    value = ch.properties.get(name, default)
+    if isinstance(value, bytes):
+        value = value.decode("utf-8", "replace")
+    return value
+
+
+def read_tdms(path, *, time_unit=None, force_unit=None, axes=None, group=None, **scene_fields):
+    """Read an NI TDMS file into a record.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The ``.tdms`` file.
+    time_unit, force_unit : str, optional
+        Units where the file has none (``unit_string`` / ``wf_xunit_string`` missing);
+        a unit in the file wins and a contradicting argument is an error.
+    axes : dict, optional
+        Record channel → TDMS channel, sign by a leading ``-`` (as for the sensor CSV).
+    group : str, optional
+        The group to read when several hold force channels.
+    **scene_fields : float
+        Scene fields stored in the attributes (names as :class:`pipeline.Scene`).
+
+    Returns
+    -------
+    xarray.Dataset
+        The record (``format="tdms"``, ``kind="sensor"``), SI units.
+
+    Raises
+    ------
+    InputError
+        Not a TDMS file, corrupt, no force channels, no time track, mismatched lengths,
+        bad units, NaN/inf, time not strictly increasing.
+    """
+    scene = scene_attrs(scene_fields)
+    p, raw, sha = read_raw(path)
+    tdms = _open(raw, p)
+    try:
+        groups = tdms.groups()
+        candidates = [(g, *_columns(g)) for g in groups]
+    except Exception as exc:
+        raise InputError(f"cannot list the TDMS channels ({exc})", path=p) from exc
+    listing = (
+        "; ".join(
+            f"{g.name}: {', '.join(c.name for c in g.channels()) or '-'}" for g, _, _ in candidates
+        )
+        or "no groups"
+    )
+    if group is not None:
+        found = [c for c in candidates if c[0].name == group]
+        if not found:
+            raise InputError(f"no group {group!r} (groups and channels: {listing})", path=p)
+    else:
+        found = [c for c in candidates if c[1]]
+        if not found:
+            raise InputError(
+                f"no force channels (named Fn/Ft or Fx/Fy/Fz) in any group ({listing})", path=p
+            )
+        if len(found) > 1:
+            raise InputError(
+                "several groups hold force channels; call pipeline.io.read_tdms(path, "
+                f"group=...) ({listing})",
+                path=p,
+            )
+    g, force_chs, time_ch = found[0]
+    chosen = resolve_axes(force_chs, axes, p)
+    try:
+        data = {col: np.asarray(force_chs[col][:], dtype=float) for col, _ in chosen.values()}
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"force channels are not numeric ({exc})", path=p) from exc
+    lengths = {col: v.size for col, v in data.items()}
+    if len(set(lengths.values())) != 1:
+        raise InputError(
+            f"force channels have different lengths {lengths}; they must share one time track",
+            path=p,
+        )
+    n = next(iter(lengths.values()))
+    if time_ch is not None:
+        try:
+            t_raw = np.asarray(time_ch[:], dtype=float)
+        except (TypeError, ValueError) as exc:
+            raise InputError(f"time channel is not numeric ({exc})", path=p) from exc
+        t_factor, t_unit = resolve_unit(
+            "time", _prop(time_ch, "unit_string"), time_unit, path=p, column=time_ch.name
+        )
+        where = f"time channel {time_ch.name!r}"
+    else:
+        tracks = []
+        for col, _ in chosen.values():
+            ch = force_chs[col]
+            if "wf_increment" not in ch.properties:
+                raise InputError(
+                    f"channel {ch.name!r} has no time track: no 'time' channel in group "
+                    f"{g.name!r} and no waveform properties (wf_increment)",
+                    path=p,
+                )
+            try:
+                tracks.append(np.asarray(ch.time_track(), dtype=float))
+            except Exception as exc:
+                raise InputError(
+                    f"bad waveform properties on channel {ch.name!r} ({exc})", path=p
+                ) from exc
+        t_raw = tracks[0]
+        if any(tr.shape != t_raw.shape or not np.array_equal(tr, t_raw) for tr in tracks[1:]):
+            raise InputError(
+                "force channels have different time tracks (wf_start_offset/wf_increment); "
+                "they must be sampled together",
+                path=p,
+            )
+        ch0 = force_chs[next(iter(chosen.values()))[0]]
+        t_factor, t_unit = resolve_unit(
+            "time",
+            _prop(ch0, "wf_xunit_string", "s") or "s",
+            time_unit,
+            path=p,
+            column=ch0.name,
+        )
+        where = "waveform time track"
+    if t_raw.size != n:
+        raise InputError(f"the {where} has {t_raw.size} samples but the force channels {n}", path=p)
+    if n == 0:
+        raise InputError("the force channels are empty", path=p)
+    if n == 1:
+        raise InputError("a single sample: a record needs at least two", path=p)
+    t = t_raw * t_factor
+    if not np.all(np.isfinite(t)):
+        raise InputError(f"the {where} has NaN or infinite values", path=p)
+    steps = np.diff(t)
+    if not np.all(steps > 0):
+        i = int(np.argmax(~(steps > 0)))
+        verb = "repeats" if steps[i] == 0 else "goes backwards"
+        raise InputError(
+            f"time {verb} at sample {i + 1} ({t_raw[i]!r} then {t_raw[i + 1]!r} {t_unit}) in "
+            f"the {where}; time must strictly increase",
+            path=p,
+        )
+    forces, units = {}, set()
+    for name, (col, sign) in chosen.items():
+        ch = force_chs[col]
+        factor, unit = resolve_unit(
+            "force", _prop(ch, "unit_string") or None, force_unit, path=p, column=ch.name
+        )
+        units.add(unit)
+        values = data[col]
+        bad = ~np.isfinite(values)
+        if bad.any():
+            i = int(np.argmax(bad))
+            raise InputError(
+                f"force value {values[i]!r} at sample {i} is NaN or infinite; repair the "
+                "channel or cut the record",
+                path=p,
+                column=ch.name,
+            )
+        forces[name] = values * (factor * sign)
+    check_plane(forces, p)
+    attrs = base_attrs(p, sha, "tdms", "sensor")
+    attrs["source_time_unit"] = t_unit
+    attrs["source_force_unit"] = ",".join(sorted(units))
+    attrs["tdms_group"] = g.name
+    attrs["axes"] = ",".join(
+        f"{name}={'-' if sign < 0 else ''}{force_chs[col].name}"
+        for name, (col, sign) in chosen.items()
+    )
+    attrs.update(scene)
+    return make_record(t, forces, attrs=attrs)
