@@ -164,8 +164,9 @@ def _param(law, e, K, m_eff, v0, alpha=None, param=None):
     if param is not None:
         return param
     if alpha is not None:
-        if hasattr(law, "material_to_param"):
-            return law.material_to_param(alpha, K, m_eff, v0)
+        to_param = getattr(law, "material_to_param", None)
+        if to_param is not None:
+            return to_param(alpha, K, m_eff, v0)
         if law.name in ("hunt_crossley", "lankarani_nikravesh", "flores"):
             return alpha * v0  # c = α·v0 (PHYSICS.md §4)
         raise InputError(f"normal law {law.name!r} does not take a material constant alpha")
@@ -636,3 +637,449 @@ def impact(
         attrs["alpha"] = float(alpha)
     attrs.update(scene.to_dict())
     return make_record(t, {"Fn": fn_N, "Ft": ft_N}, attrs=attrs, extra=extra)
+
+
+# ----------------------------------------------------------------------------- batch
+@dataclass(frozen=True)
+class ImpactOutcomes:
+    """Outcomes of many impacts (arrays shaped like the scenes).
+
+    Attributes
+    ----------
+    e_n : normal restitution [-]
+    e_t : tangential velocity of the centre after / before [-] (NaN when v_t0 = 0)
+    omega : spin after impact [rad/s], > 0 in the sense Pt > 0 produces
+    t_contact : contact duration [s]
+    F_max : peak normal force [N]
+    delta_max : maximum approach [m]
+    Pn_final, Pt_final : normal and tangential percussion at separation [N·s]
+    Ft_reverses : bool — the tangential force changed sign during contact
+    normal : law name per scene; tangential, history : model names; n_steps : RK4 steps
+    per elastic contact duration
+    """
+
+    e_n: np.ndarray
+    e_t: np.ndarray
+    omega: np.ndarray
+    t_contact: np.ndarray
+    F_max: np.ndarray
+    delta_max: np.ndarray
+    Pn_final: np.ndarray
+    Pt_final: np.ndarray
+    Ft_reverses: np.ndarray
+    normal: np.ndarray
+    tangential: str
+    history: str
+    n_steps: int
+
+    _UNITS = {
+        "e_n": "1",
+        "e_t": "1",
+        "omega": "rad/s",
+        "t_contact": "s",
+        "F_max": "N",
+        "delta_max": "m",
+        "Pn_final": "N s",
+        "Pt_final": "N s",
+        "Ft_reverses": "1",
+    }
+
+    def to_dataset(self) -> xr.Dataset:
+        """The outcomes as an :class:`xarray.Dataset` on dimension ``scene`` (flattened)."""
+        data = {
+            k: ("scene", np.ravel(getattr(self, k)), {"units": u}) for k, u in self._UNITS.items()
+        }
+        data["normal"] = ("scene", np.ravel(self.normal).astype(str))
+        return xr.Dataset(
+            data,
+            attrs={
+                "tangential_model": self.tangential,
+                "history_rule": self.history,
+                "n_steps": self.n_steps,
+                "generator": "pipeline.simulate.impact_outcomes",
+            },
+        )
+
+
+def _stack_scenes(scenes):
+    if isinstance(scenes, Scene):
+        return scenes
+    scenes = list(scenes)
+    if not scenes or not all(isinstance(s, Scene) for s in scenes):
+        raise InputError("impact_outcomes() needs a Scene (array fields) or a list of Scenes")
+    fields = {}
+    for name in Scene.field_names():
+        if name in ("density", "mass"):
+            continue
+        vals = [getattr(s, name) for s in scenes]
+        if any(v is None for v in vals):
+            if all(v is None for v in vals):
+                continue
+            raise InputError(f"Scene.{name} is given for some scenes but not others")
+        fields[name] = np.array(vals, dtype=float)
+    fields["mass"] = np.array([float(s.m) for s in scenes])
+    return Scene(**fields)
+
+
+def _calibrate_many(law, e):
+    e = np.asarray(e, dtype=float)
+    uniq, inv = np.unique(e, return_inverse=True)
+    try:
+        p = np.asarray(law.calibrate(uniq), dtype=float)
+        if p.shape != uniq.shape:
+            raise ValueError
+    except (TypeError, ValueError) as err:
+        if isinstance(err, InputError):
+            raise
+        p = np.array([float(law.calibrate(float(x))) for x in uniq])
+    return p[inv.reshape(e.shape)]
+
+
+#: dimensionless elastic Hertz impact: δ_max = 1, v0 = 1, m* = 1 (so K = F_max = 5/4)
+_UNIT_HERTZ = contact.HertzImpact(1.0, 1.25, contact.HERTZ_TC_CONSTANT, 1.25, 1.0, 1.0)
+
+
+def _tangential_rhs(s0, lam, mu, ktc, history, x, fn, p, z):
+    s = s0 - lam * p
+    k = ktc * np.sqrt(np.maximum(x, 0.0))
+    cap = mu * fn
+    if history == "total":
+        ft = np.clip(k * z, -cap, cap)
+        dz = s
+    else:
+        ft = np.clip(z, -cap, cap)
+        dz = k * s
+    return ft, dz
+
+
+def _project(history, z, x, fn, mu, ktc):
+    # dimensionless: k̂ = ktc·√x is mindlin_stiffness with G* = ktc/8, R* = 1
+    if history == "total":
+        return contact.mindlin_total(z, 0.0, x, fn, mu, ktc / 8.0, 1.0).xi
+    return contact.mindlin_incremental(z, 0.0, x, fn, mu, ktc / 8.0, 1.0).Ft
+
+
+def _batch_group(
+    law, elastic, param, K, m_eff, v0, dstar, s0, lam, mu, ktc, tangential, history, n_steps
+):
+    """Fixed-step RK4 over all scenes of one normal law (dimensionless)."""
+    N = s0.size
+    TC = contact.HERTZ_TC_CONSTANT
+    h = TC / n_steps
+    fscale = m_eff * v0**2 / dstar
+    mindlin = tangential == "mindlin"
+    p = np.zeros(N)
+    z = np.zeros(N)
+    ft_min = np.zeros(N)
+    ft_max = np.zeros(N)
+
+    def fn_of(x, u):
+        f = law.force(x * dstar, u * v0, param, K, m_eff, v0) / fscale
+        return np.where(x > 0, f, 0.0)
+
+    if elastic:
+        tau = np.arange(2 * n_steps + 1) * (h / 2)
+        tau[-1] = TC
+        pulse = contact.hertz_pulse(tau, _UNIT_HERTZ)
+        xs, fs = np.maximum(pulse["delta"], 0.0), pulse["F"]
+        if mindlin:
+            for k in range(n_steps):
+                x0, xm, x1 = xs[2 * k], xs[2 * k + 1], xs[2 * k + 2]
+                f0, fm, f1 = fs[2 * k], fs[2 * k + 1], fs[2 * k + 2]
+                a1, b1 = _tangential_rhs(s0, lam, mu, ktc, history, x0, f0, p, z)
+                a2, b2 = _tangential_rhs(
+                    s0, lam, mu, ktc, history, xm, fm, p + 0.5 * h * a1, z + 0.5 * h * b1
+                )
+                a3, b3 = _tangential_rhs(
+                    s0, lam, mu, ktc, history, xm, fm, p + 0.5 * h * a2, z + 0.5 * h * b2
+                )
+                a4, b4 = _tangential_rhs(s0, lam, mu, ktc, history, x1, f1, p + h * a3, z + h * b3)
+                p = p + h / 6.0 * (a1 + 2 * a2 + 2 * a3 + a4)
+                z = _project(history, z + h / 6.0 * (b1 + 2 * b2 + 2 * b3 + b4), x1, f1, mu, ktc)
+                ft = a4
+                ft_min = np.minimum(ft_min, ft)
+                ft_max = np.maximum(ft_max, ft)
+        e_n = np.ones(N)
+        tau_c = np.full(N, TC)
+        f_max = np.full(N, 1.25)
+        x_max = np.ones(N)
+    else:
+        x = np.zeros(N)
+        u = np.ones(N)
+        tau_c = np.full(N, np.nan)
+        f_max = np.zeros(N)
+        x_max = np.zeros(N)
+        f_prev2 = np.zeros(N)
+        f_prev = np.zeros(N)
+        x_prev2 = np.zeros(N)
+        x_prev = np.zeros(N)
+        done = np.zeros(N, dtype=bool)
+        for k in range(200 * n_steps):
+            f1 = fn_of(x, u)
+            k1x, k1u = u, -f1
+            if mindlin:
+                a1, b1 = _tangential_rhs(s0, lam, mu, ktc, history, x, f1, p, z)
+            xa, ua = x + 0.5 * h * k1x, u + 0.5 * h * k1u
+            f2 = fn_of(xa, ua)
+            k2x, k2u = ua, -f2
+            if mindlin:
+                a2, b2 = _tangential_rhs(
+                    s0, lam, mu, ktc, history, xa, f2, p + 0.5 * h * a1, z + 0.5 * h * b1
+                )
+            xb, ub = x + 0.5 * h * k2x, u + 0.5 * h * k2u
+            f3 = fn_of(xb, ub)
+            k3x, k3u = ub, -f3
+            if mindlin:
+                a3, b3 = _tangential_rhs(
+                    s0, lam, mu, ktc, history, xb, f3, p + 0.5 * h * a2, z + 0.5 * h * b2
+                )
+            xc, uc = x + h * k3x, u + h * k3u
+            f4 = fn_of(xc, uc)
+            k4x, k4u = uc, -f4
+            if mindlin:
+                a4, b4 = _tangential_rhs(s0, lam, mu, ktc, history, xc, f4, p + h * a3, z + h * b3)
+            xn = x + h / 6.0 * (k1x + 2 * k2x + 2 * k3x + k4x)
+            un = u + h / 6.0 * (k1u + 2 * k2u + 2 * k3u + k4u)
+            fnew = fn_of(xn, un)
+            if mindlin:
+                p = p + h / 6.0 * (a1 + 2 * a2 + 2 * a3 + a4)
+                z = _project(history, z + h / 6.0 * (b1 + 2 * b2 + 2 * b3 + b4), xn, fnew, mu, ktc)
+                ft_min = np.minimum(ft_min, a4)
+                ft_max = np.maximum(ft_max, a4)
+            # separation within this step: δ crosses 0, or Fn reaches 0 while restituting
+            sep = ~done & (k > 0) & (un < 0) & ((xn <= 0) | (fnew <= 0))
+            if np.any(sep):
+                tau_c[sep] = (
+                    k + _crossing(x[sep], u[sep], xn[sep], un[sep], fnew[sep], f1[sep], h)
+                ) * h
+                done |= sep
+            # peaks: parabola through the last three node values
+            for val, prev, prev2, best in (
+                (f1, f_prev, f_prev2, f_max),
+                (x, x_prev, x_prev2, x_max),
+            ):
+                if k >= 2:
+                    peak = (prev >= prev2) & (prev > val)
+                    den = val - 2 * prev + prev2
+                    with np.errstate(divide="ignore", invalid="ignore"):
+                        ref = np.where(den < 0, prev - (val - prev2) ** 2 / (8 * den), prev)
+                    best[...] = np.where(peak, np.maximum(best, ref), np.maximum(best, prev))
+            f_prev2, f_prev = f_prev, f1
+            x_prev2, x_prev = x_prev, x
+            x, u = xn, un
+            if done.all():
+                break
+        else:
+            raise RuntimeError("impact_outcomes: some bodies did not separate")
+        e_n = -u
+    if tangential == "coulomb":
+        p = np.minimum(mu * (1.0 + e_n), s0 / lam)  # Routh's broken line (PHYSICS.md §3)
+    elif tangential == "none":
+        p = np.zeros(N)
+    tiny = 1e-9 * np.maximum(mu, 1e-12)
+    reverses = (ft_min < -tiny) & (ft_max > tiny)
+    return {
+        "e_n": e_n,
+        "p": p,
+        "tau_c": tau_c,
+        "f_max": f_max,
+        "x_max": x_max,
+        "reverses": reverses,
+    }
+
+
+def _crossing(x0, u0, x1, u1, f1, f0, h):
+    """Fraction θ ∈ (0, 1] of the step where the contact ends (cubic Hermite root of δ, or
+    linear interpolation of Fn when the force law lets go first)."""
+    theta = np.where(x1 < x0, x0 / np.where(x0 - x1 > 0, x0 - x1, 1.0), 1.0)
+    theta = np.clip(theta, 0.0, 1.0)
+    for _ in range(8):  # Newton on the Hermite cubic of δ(θ)
+        t2, t3 = theta**2, theta**3
+        h00, h10, h01, h11 = 2 * t3 - 3 * t2 + 1, t3 - 2 * t2 + theta, -2 * t3 + 3 * t2, t3 - t2
+        val = h00 * x0 + h10 * h * u0 + h01 * x1 + h11 * h * u1
+        d00, d10, d01, d11 = (
+            6 * t2 - 6 * theta,
+            3 * t2 - 4 * theta + 1,
+            -6 * t2 + 6 * theta,
+            3 * t2 - 2 * theta,
+        )
+        der = d00 * x0 + d10 * h * u0 + d01 * x1 + d11 * h * u1
+        with np.errstate(divide="ignore", invalid="ignore"):
+            step = np.where(der < 0, val / der, 0.0)
+        theta = np.clip(theta - step, 0.0, 1.0)
+    by_force = x1 > 0  # the force reached zero before δ did
+    with np.errstate(divide="ignore", invalid="ignore"):
+        theta_f = np.clip(f0 / np.where(f0 - f1 > 0, f0 - f1, 1.0), 0.0, 1.0)
+    return np.where(by_force, theta_f, theta)
+
+
+def impact_outcomes(
+    scenes,
+    normal=None,
+    tangential="mindlin",
+    *,
+    history="total",
+    n_steps=400,
+    alpha=None,
+    param=None,
+    target_kappa=None,
+) -> ImpactOutcomes:
+    """Outcomes of many oblique impacts at once (vectorised, no per-scene loop).
+
+    Parameters
+    ----------
+    scenes : Scene or sequence of Scene
+        A Scene whose fields are arrays (broadcast together) or a list of scalar Scenes.
+    normal : str, optional
+        Normal law for all scenes; default per scene ``"hertz"`` if e == 1 else
+        ``"hunt_crossley"``.
+    tangential : {"mindlin", "coulomb", "none"}
+    history : {"total", "incremental"}
+        Mindlin history rule.
+    n_steps : int
+        RK4 steps per elastic contact duration (t_c = 2.943·t*); damped contacts, which
+        last longer, take proportionally more.
+    alpha, param, target_kappa
+        As in :func:`impact`.
+
+    Returns
+    -------
+    ImpactOutcomes
+
+    Notes
+    -----
+    Every scene is integrated in its own dimensionless time τ = t·v_n0/δ_max with the same
+    step, so the loop runs over time steps only. For the elastic Hertz law the normal
+    problem is one universal function of τ (:func:`pipeline.contact.hertz_pulse`, exact),
+    so only the tangential state (Pt, ξ or Ft) is integrated, by RK4 with the Coulomb cap
+    applied inside the stages and the discrete history rule
+    (:func:`pipeline.contact.mindlin_total` / :func:`~pipeline.contact.mindlin_incremental`)
+    after each step: the LAMMPS/YADE update with an RK4 predictor. In these variables the
+    tangential problem depends only on s0/(μ·v_n0), m*/m_t and G*/E* (the groups of Maw,
+    Barber & Fawcett 1976). Coulomb friction needs no integration: Pt = min(μ·Pn,
+    m_t·s0) exactly. Errors against :func:`impact` fall as n_steps⁻² (first-order kinks at
+    stick/slip switches); see ``benchmarks/bench_simulate.py``.
+    """
+    if tangential not in TANGENTIAL_MODELS:
+        raise InputError(
+            f"unknown tangential model {tangential!r}; choose one of {TANGENTIAL_MODELS}"
+        )
+    if history not in HISTORY_RULES:
+        raise InputError(f"unknown Mindlin history rule {history!r}; choose one of {HISTORY_RULES}")
+    if int(n_steps) < 4:
+        raise InputError("n_steps must be at least 4")
+    n_steps = int(n_steps)
+    sc = _stack_scenes(scenes)
+    hi = contact.hertz_impact(sc)
+    arrs = np.broadcast_arrays(
+        *(
+            np.asarray(a, dtype=float)
+            for a in (
+                hi.delta_max,
+                hi.K,
+                hi.m_eff,
+                hi.v0,
+                sc.m,
+                sc.target_mass,
+                sc.kappa,
+                sc.radius,
+                sc.target_radius,
+                sc.v_t0,
+                sc.spin,
+                sc.mu,
+                sc.e,
+                sc.G_eff,
+                sc.R_eff,
+            )
+        )
+    )
+    shape = arrs[0].shape
+    (dstar, K, m_eff, v0, m1, m2, k1, R1, R2, vt0, spin, mu, e, G, Rs) = (
+        a.ravel().copy() for a in arrs
+    )
+    k2 = (
+        k1
+        if target_kappa is None
+        else np.broadcast_to(np.asarray(target_kappa, dtype=float), shape).ravel()
+    )
+    with np.errstate(divide="ignore"):
+        inv_m2 = np.where(np.isinf(m2), 0.0, 1.0 / m2)
+    lam = m_eff * ((1 + 1 / k1) / m1 + (1 + 1 / k2) * inv_m2)
+    slip0 = vt0 - spin * R1
+    sign = np.where(slip0 < 0, -1.0, 1.0)
+    s0 = np.abs(slip0) / v0
+    ktc = 8.0 * G * np.sqrt(Rs * dstar) * dstar**2 / (m_eff * v0**2)
+    if normal is None:
+        names = np.where(e == 1.0, "hertz", "hunt_crossley")
+    else:
+        _law(normal)
+        names = np.full(e.shape, normal, dtype=object)
+    names = names.astype(object)
+    if normal == "hertz" and np.any(e < 1):
+        raise InputError("the elastic 'hertz' law cannot give e < 1; choose a damped law")
+    out = {k: np.empty(e.size) for k in ("e_n", "p", "tau_c", "f_max", "x_max")}
+    out["reverses"] = np.zeros(e.size, dtype=bool)
+    for name in sorted(set(names)):
+        law = _law(name)
+        idx = np.nonzero(names == name)[0]
+        elastic = name == "hertz" or (
+            param is None and alpha is None and np.all(e[idx] == 1) and law.name == "hertz"
+        )
+        if param is not None:
+            prm = np.broadcast_to(np.asarray(param, dtype=float), shape).ravel()[idx]
+        elif alpha is not None:
+            prm = np.asarray(
+                _param(
+                    law,
+                    None,
+                    K[idx],
+                    m_eff[idx],
+                    v0[idx],
+                    alpha=np.broadcast_to(alpha, shape).ravel()[idx],
+                )
+            )
+        else:
+            prm = _calibrate_many(law, e[idx])
+        res = _batch_group(
+            law,
+            elastic,
+            prm,
+            K[idx],
+            m_eff[idx],
+            v0[idx],
+            dstar[idx],
+            s0[idx],
+            lam[idx],
+            mu[idx],
+            ktc[idx],
+            tangential,
+            history,
+            n_steps,
+        )
+        for k in out:
+            out[k][idx] = res["reverses" if k == "reverses" else k]
+    tstar = dstar / v0
+    Pt = out["p"] * m_eff * v0
+    vt0s = sign * vt0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        e_t = np.where(vt0s != 0, (vt0s - out["p"] * v0) / np.where(vt0s != 0, vt0s, 1.0), np.nan)
+    omega = sign * spin + Pt / (k1 * m1 * R1)
+
+    def r(a):
+        return np.asarray(a).reshape(shape)
+
+    return ImpactOutcomes(
+        e_n=r(out["e_n"]),
+        e_t=r(e_t),
+        omega=r(omega),
+        t_contact=r(out["tau_c"] * tstar),
+        F_max=r(out["f_max"] * m_eff * v0**2 / dstar),
+        delta_max=r(out["x_max"] * dstar),
+        Pn_final=r((1 + out["e_n"]) * m_eff * v0),
+        Pt_final=r(Pt),
+        Ft_reverses=r(out["reverses"]),
+        normal=r(names),
+        tangential=tangential,
+        history=history,
+        n_steps=n_steps,
+    )
