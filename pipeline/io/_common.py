@@ -167,6 +167,7 @@ def atomic_write_text(path, text: str, *, encoding: str = "utf-8", newline: str 
     directory = path.parent if str(path.parent) else Path(".")
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=directory)
     try:
+        os.chmod(tmp, 0o644)  # mkstemp makes it 0600; a data file should be readable
         with os.fdopen(fd, "w", encoding=encoding, newline=newline) as fh:
             fh.write(text)
             fh.flush()

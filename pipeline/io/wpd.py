@@ -454,6 +454,13 @@ def _read_singles(paths, channels, time_unit, force_unit, encoding, scene, parse
         series[channel] = _parse_single(text, p)
         names.append(p.name)
         shas.append(sha)
+    if "Fn" not in series:
+        raise InputError(
+            f"no normal-force channel: the export(s) hold "
+            f"{', '.join(series)} only; load it together with the Fn export, e.g. "
+            "load({'Fn': 'fn.csv', 'Ft': 'ft.csv'}, time_unit=..., force_unit=...)",
+            path=",".join(names),
+        )
     attrs = base_attrs(first, ",".join(shas), "wpd", "digitised")
     attrs["source"] = ",".join(names)
     attrs["channels"] = ",".join(f"{ch}={n}" for ch, n in zip(series, names, strict=True))
