@@ -174,16 +174,19 @@ class Scene:
     def E_eff(self):
         """Effective modulus E* [Pa]: 1/E* = (1−ν1²)/E1 + (1−ν2²)/E2."""
         self._need_elastic()
-        inv = (1 - self.nu**2) / self.E + (1 - self.target_nu**2) / _arr(self.target_E)
+        inv = (1 - self.nu**2) / _arr(self.E) + (1 - self.target_nu**2) / _arr(self.target_E)
+        _need_compliance(inv)
         return _scalar(1.0 / inv)
 
     @property
     def G_eff(self):
         """Effective shear modulus G* [Pa]: 1/G* = (2−ν1)/G1 + (2−ν2)/G2."""
         self._need_elastic()
-        g1 = self.E / (2 * (1 + self.nu))
+        g1 = _arr(self.E) / (2 * (1 + self.nu))
         g2 = _arr(self.target_E) / (2 * (1 + self.target_nu))
-        return _scalar(1.0 / ((2 - self.nu) / g1 + (2 - self.target_nu) / g2))
+        inv = (2 - self.nu) / g1 + (2 - self.target_nu) / g2
+        _need_compliance(inv)
+        return _scalar(1.0 / inv)
 
     @property
     def v_n0(self):
@@ -224,6 +227,14 @@ class Scene:
     @classmethod
     def field_names(cls) -> tuple[str, ...]:
         return tuple(f.name for f in dataclasses.fields(cls))
+
+
+def _need_compliance(inv):
+    if np.any(np.asarray(inv) == 0):
+        raise InputError(
+            "ball and target are both rigid (E = target_E = inf): a compliant model needs "
+            "a finite Young's modulus for at least one of them"
+        )
 
 
 def _scalar(a):
