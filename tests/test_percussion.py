@@ -1,0 +1,215 @@
+"""Percussions and restitution coefficients against closed forms.
+
+- Elastic Hertz impact (exact history: pipeline.contact.hertz_pulse; Johnson, Contact
+  Mechanics, CUP 1985, §11.4, doi:10.1017/CBO9781139171731; PHYSICS.md §4):
+  Pn(t_c/2) = m*·v0, Pn(t_c) = 2·m*·v0, and every restitution coefficient is 1.
+- Hunt–Crossley damped impact (Hunt & Crossley, J. Appl. Mech. 42:440, 1975,
+  doi:10.1115/1.3423596), integrated here with solve_ivp, with c calibrated so that the
+  exact energy integral c(1+e) = ln[(1+c)/(1−ce)] gives the requested e (PHYSICS.md §4):
+  Poisson's, Newton's and Stronge's coefficients all equal e for a sphere (PHYSICS.md §2;
+  Stronge, Proc. R. Soc. A 431:169, 1990, doi:10.1098/rspa.1990.0125).
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+from pipeline.contact import calibrate_hunt_crossley_family, hertz_impact, hertz_pulse
+from pipeline.errors import InputError, PipelineWarning, PoorFitWarning
+from pipeline.fit import fit_window
+from pipeline.percussion import (
+    SOURCES,
+    compression_split,
+    cumulative_percussion,
+    normal_work,
+    percussions,
+    restitution_energetic,
+    restitution_newton,
+    restitution_poisson,
+)
+from pipeline.record import make_record
+from pipeline.scene import Scene
+from pipeline.window import find_contact
+
+SCENE = Scene(
+    radius=0.0127, density=7800.0, E=200e9, nu=0.3, target_E=200e9, target_nu=0.3, speed=0.5
+)
+IMPACT = hertz_impact(SCENE)
+MV = IMPACT.m_eff * IMPACT.v0
+T0 = 1.0e-3  # contact starts 1 ms into the record
+MU = 0.3  # a sliding tangential force Ft = μ·Fn for the Pt checks
+
+
+def hertz_record(n=200):
+    h = IMPACT.t_c / n  # t_c/2 and t_c fall on samples
+    t = T0 + np.arange(-10, n + 11) * h
+    F = hertz_pulse(t - T0, IMPACT)["F"]
+    return make_record(
+        t,
+        {"Fn": F, "Ft": MU * F},
+        attrs={"source": "hertz_pulse", "format": "test", "kind": "simulated"},
+    )
+
+
+def fitted(window, **kw):
+    with warnings.catch_warnings():
+        # noise-free data: any polynomial's residuals are structured, and flagged as such
+        warnings.simplefilter("ignore", PoorFitWarning)
+        return fit_window(window, **kw)
+
+
+@pytest.mark.parametrize(
+    "fit_kw",
+    [{"method": "spline"}, {"method": "polynomial", "degree": 8, "end_constraints": True}],
+)
+def test_hertz_percussions_from_fit_and_raw_samples(fit_kw):
+    w = find_contact(hertz_record())
+    p = percussions(w, fitted(w, **fit_kw))
+    i_half = int(np.argmin(np.abs(p.time - (T0 + IMPACT.t_c / 2))))
+    assert p.time[i_half] == pytest.approx(T0 + IMPACT.t_c / 2, abs=1e-15)
+    for src in SOURCES:
+        Pn = p.Pn(src)
+        assert Pn[0] == 0.0
+        assert Pn[i_half] == pytest.approx(MV, rel=1e-3), src
+        assert Pn[-1] == pytest.approx(2 * MV, rel=1e-3), src
+        assert p.Pt(src)[-1] == pytest.approx(2 * MU * MV, rel=1e-3), src
+    # the fit's exact antiderivative at t_c/2 itself, not only on the grid
+    assert p.fit_n.antiderivative(T0 + IMPACT.t_c / 2) == pytest.approx(MV, rel=1e-3)
+    assert p.disagreement_n < 1e-3 * p.Pn_total
+    ds = p.to_dataset()
+    assert ds["Pn_simpson"].attrs["units"] == "N s"
+
+
+def test_hertz_restitution_is_one_every_way():
+    w = find_contact(hertz_record())
+    p = percussions(w, fitted(w, method="spline"))
+    for src in SOURCES:
+        s = compression_split(p, SCENE, source=src)
+        assert s.method == "momentum"
+        assert s.e_poisson == pytest.approx(1.0, abs=1e-3)
+        assert s.e_newton == pytest.approx(1.0, abs=1e-3)
+        assert s.e_energetic == pytest.approx(1.0, abs=1e-3)
+        # maximum compression of the elastic pulse is at t_c/2, Pt there is μ·m*v0
+        assert s.t_c == pytest.approx(T0 + IMPACT.t_c / 2, abs=1e-3 * IMPACT.t_c)
+        assert s.Pt_c == pytest.approx(MU * MV, rel=1e-3)
+        # energy: W_c = m*v0²/2 (all kinetic energy of approach stored)
+        assert s.W_c == pytest.approx(0.5 * IMPACT.m_eff * IMPACT.v0**2, rel=1e-12)
+    # without mass and speed: the closure estimate (mean Pn = m*·v0)
+    s = compression_split(p)
+    assert s.method == "closure"
+    assert s.Pn_c == pytest.approx(MV, rel=1e-3)
+    assert s.e_poisson == pytest.approx(1.0, abs=1e-3)
+    assert np.isnan(s.e_newton)
+    # with the mass alone, closure estimates the approach speed
+    s = compression_split(p, m=IMPACT.m_eff)
+    assert s.v_n0 == pytest.approx(IMPACT.v0, rel=1e-3) and not s.v_n0_given
+    # the documented peak-of-Fn fallback warns; for elastic contact it is exact
+    with pytest.warns(PipelineWarning, match="peak of Fn"):
+        s = compression_split(p, method="peak_force")
+    assert s.t_c == pytest.approx(T0 + IMPACT.t_c / 2, abs=2e-3 * IMPACT.t_c)
+    assert s.e_poisson == pytest.approx(1.0, abs=1e-3)
+
+
+def hunt_crossley_record(e, n=400):
+    """Integrate m*·δ'' = −K·δ^{3/2}(1 + c·δ'/v0) to separation; sample n + 1 points."""
+    c = float(calibrate_hunt_crossley_family(e))
+    K, m, v0 = IMPACT.K, IMPACT.m_eff, IMPACT.v0
+
+    def rhs(_, y):
+        d = max(y[0], 0.0)
+        return [y[1], -K * d**1.5 * (1.0 + c * y[1] / v0) / m]
+
+    def separated(_, y):
+        return y[0]
+
+    separated.terminal = True
+    separated.direction = -1
+    sol = solve_ivp(
+        rhs,
+        (0.0, 10 * IMPACT.t_c),
+        [0.0, v0],
+        method="DOP853",
+        rtol=1e-12,
+        atol=[1e-9 * IMPACT.delta_max, 1e-9 * v0],
+        events=separated,
+        dense_output=True,
+    )
+    t_f = float(sol.t_events[0][0])
+    v_out = -float(sol.y_events[0][0][1])
+    t = np.linspace(0.0, t_f, n + 1)
+    d, dd = sol.sol(t)
+    d = np.maximum(d, 0.0)
+    F = np.maximum(K * d**1.5 * (1.0 + c * dd / v0), 0.0)
+    F[0] = F[-1] = 0.0
+    rec = make_record(
+        T0 + t,
+        {"Fn": F, "Ft": MU * F},
+        attrs={"source": "hunt_crossley ODE", "format": "test", "kind": "simulated"},
+    )
+    return rec, v_out / v0, sol
+
+
+@pytest.mark.parametrize("e", [0.5, 0.8])
+def test_hunt_crossley_restitution_poisson_newton_energetic(e):
+    rec, e_ode, sol = hunt_crossley_record(e)
+    assert e_ode == pytest.approx(e, abs=1e-6)  # the calibration and the ODE agree
+    w = find_contact(rec)
+    p = percussions(w, fitted(w, method="spline"))
+    for src in SOURCES:
+        s = compression_split(p, SCENE, source=src)
+        assert s.e_poisson == pytest.approx(e, abs=1e-3), src
+        assert s.e_newton == pytest.approx(e, abs=1e-3), src
+        assert s.e_energetic == pytest.approx(e, abs=1e-3), src
+        assert s.Pn_f == pytest.approx((1 + e) * MV, rel=1e-3)
+    # maximum compression where the ODE's approach rate vanishes
+    s = compression_split(p, SCENE)
+    t_grid = np.linspace(0.0, sol.t[-1], 20001)
+    t_cmax = t_grid[np.argmin(np.abs(sol.sol(t_grid)[1]))]  # dense output: δ' = 0
+    assert s.t_c - T0 == pytest.approx(t_cmax, abs=2e-3 * IMPACT.t_c)
+    # closure (no mass, no speed): the approach returns to zero at separation
+    s = compression_split(p)
+    assert s.e_poisson == pytest.approx(e, abs=1e-3)
+    # the peak of Fn comes before maximum compression when damped: e_P biased upward
+    with pytest.warns(PipelineWarning):
+        s = compression_split(p, method="peak_force")
+    assert s.t_c - T0 < t_cmax
+    assert s.e_poisson > e + 0.01
+
+
+def test_scene_contradicting_the_impulse_falls_back_with_warning():
+    w = find_contact(hertz_record())
+    p = percussions(w, fitted(w, method="spline"))
+    heavy = SCENE.replace(density=3 * 7800.0)  # m*·v0 above the record's whole impulse
+    with pytest.warns(PipelineWarning, match="never reached"):
+        s = compression_split(p, heavy)
+    assert s.method == "closure"
+    with pytest.raises(InputError, match="never reaches"):
+        compression_split(p, heavy, method="momentum")
+
+
+def test_coefficient_functions_closed_forms():
+    # Pn_c = m v0 = 2, Pn_f = (1 + e) m v0 with e = 0.6, m = 0.5 kg, v0 = 4 m/s
+    m, v0, e = 0.5, 4.0, 0.6
+    assert restitution_poisson(2.0, 3.2) == pytest.approx(e)
+    assert restitution_newton(3.2, m, v0) == pytest.approx(e)
+    assert restitution_energetic(3.2, m, v0) == pytest.approx(e)
+    # W(m v0) = m v0²/2 = 4 J (kinetic energy of approach); W(Pn_f) − W_c = −e²·4 J
+    assert normal_work(2.0, m, v0) == pytest.approx(4.0)
+    assert normal_work(3.2, m, v0) - 4.0 == pytest.approx(-(e**2) * 4.0)
+
+
+def test_cumulative_percussion_pads_zero_ends_and_integrates_exactly():
+    # F = 6·(t − 1)(2 − t) on [1, 2] s: ∫ = 1 N·s; Simpson is exact for a parabola
+    t = np.linspace(1.0, 2.0, 11)[1:-1]
+    F = 6.0 * (t - 1.0) * (2.0 - t)
+    tp, P = cumulative_percussion(t, F, method="simpson", t_start=1.0, t_end=2.0)
+    assert tp[0] == 1.0 and tp[-1] == 2.0
+    assert P[-1] == pytest.approx(1.0, rel=1e-12)
+    exact = 3.0 * (tp - 1.0) ** 2 - 2.0 * (tp - 1.0) ** 3
+    np.testing.assert_allclose(P, exact, atol=1e-12)
+    tp, P = cumulative_percussion(t, F, method="trapezoid", t_start=1.0, t_end=2.0)
+    assert P[-1] == pytest.approx(1.0 - 1.0 / 100.0, rel=1e-12)  # trapezoid error h²/12·∫F''
