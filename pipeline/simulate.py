@@ -739,24 +739,58 @@ def _calibrate_many(law, e):
 _UNIT_HERTZ = contact.HertzImpact(1.0, 1.25, contact.HERTZ_TC_CONSTANT, 1.25, 1.0, 1.0)
 
 
-def _tangential_rhs(s0, lam, mu, ktc, history, x, fn, p, z):
-    s = s0 - lam * p
-    k = ktc * np.sqrt(np.maximum(x, 0.0))
-    cap = mu * fn
-    if history == "total":
-        ft = np.clip(k * z, -cap, cap)
-        dz = s
-    else:
-        ft = np.clip(z, -cap, cap)
-        dz = k * s
-    return ft, dz
+#: laws whose dimensionless force depends on the damping parameter alone (F = K·δ^1.5·(1 +
+#: c·δ̇/v0)): their normal problem is integrated once per distinct parameter value.
+_SELF_SIMILAR = ("hunt_crossley", "lankarani_nikravesh", "flores")
 
 
-def _project(history, z, x, fn, mu, ktc):
-    # dimensionless: k̂ = ktc·√x is mindlin_stiffness with G* = ktc/8, R* = 1
-    if history == "total":
-        return contact.mindlin_total(z, 0.0, x, fn, mu, ktc / 8.0, 1.0).xi
-    return contact.mindlin_incremental(z, 0.0, x, fn, mu, ktc / 8.0, 1.0).Ft
+class _MindlinRK4:
+    """Tangential state (Pt, and ξ or Ft) of N scenes, advanced by RK4 (dimensionless).
+
+    The Coulomb cap is applied inside the stages and the discrete history rule after each
+    step: for the total rule ξ is clipped to ±μFn/k_t (:func:`pipeline.contact.mindlin_total`
+    with zero increment), for the incremental rule Ft to ±μFn
+    (:func:`pipeline.contact.mindlin_incremental`); written out as clips here for speed.
+    """
+
+    def __init__(self, s0, lam, mu, ktc, history):
+        self.s0, self.lam, self.mu, self.ktc = s0, lam, mu, ktc
+        self.total = history == "total"
+        n = s0.size
+        self.p = np.zeros(n)
+        self.z = np.zeros(n)
+        self.ft_min = np.zeros(n)
+        self.ft_max = np.zeros(n)
+
+    def rhs(self, sq, fn, p, z):
+        cap = self.mu * fn
+        s = self.s0 - self.lam * p
+        if self.total:
+            return np.clip(self.ktc * z * sq, -cap, cap), s
+        return np.clip(z, -cap, cap), self.ktc * sq * s
+
+    def step(self, h, stages, end):
+        """``stages``: (√x, fn) at τ, τ+h/2 (twice, RK4 stages 2 and 3) and τ+h; ``end``: the
+        same at the end of the step (for the history rule)."""
+        p, z = self.p, self.z
+        (q1, f1), (q2, f2), (q3, f3), (q4, f4) = stages
+        a1, b1 = self.rhs(q1, f1, p, z)
+        a2, b2 = self.rhs(q2, f2, p + 0.5 * h * a1, z + 0.5 * h * b1)
+        a3, b3 = self.rhs(q3, f3, p + 0.5 * h * a2, z + 0.5 * h * b2)
+        a4, b4 = self.rhs(q4, f4, p + h * a3, z + h * b3)
+        self.p = p + h / 6.0 * (a1 + 2.0 * (a2 + a3) + a4)
+        z = z + h / 6.0 * (b1 + 2.0 * (b2 + b3) + b4)
+        qe, fe = end
+        cap = self.mu * fe
+        if self.total:
+            k = self.ktc * qe
+            with np.errstate(divide="ignore", invalid="ignore"):
+                lim = np.where(k > 0, cap / k, 0.0)
+            self.z = np.clip(z, -lim, lim)
+        else:
+            self.z = np.clip(z, -cap, cap)
+        np.minimum(self.ft_min, a4, out=self.ft_min)
+        np.maximum(self.ft_max, a4, out=self.ft_max)
 
 
 def _batch_group(
@@ -766,99 +800,79 @@ def _batch_group(
     N = s0.size
     TC = contact.HERTZ_TC_CONSTANT
     h = TC / n_steps
-    fscale = m_eff * v0**2 / dstar
-    mindlin = tangential == "mindlin"
-    p = np.zeros(N)
-    z = np.zeros(N)
-    ft_min = np.zeros(N)
-    ft_max = np.zeros(N)
-
-    def fn_of(x, u):
-        f = law.force(x * dstar, u * v0, param, K, m_eff, v0) / fscale
-        return np.where(x > 0, f, 0.0)
-
+    tan = _MindlinRK4(s0, lam, mu, ktc, history) if tangential == "mindlin" else None
     if elastic:
+        # one universal normal solution for every scene (exact, contact.hertz_pulse)
         tau = np.arange(2 * n_steps + 1) * (h / 2)
         tau[-1] = TC
         pulse = contact.hertz_pulse(tau, _UNIT_HERTZ)
-        xs, fs = np.maximum(pulse["delta"], 0.0), pulse["F"]
-        if mindlin:
+        qs, fs = np.sqrt(np.maximum(pulse["delta"], 0.0)), pulse["F"]
+        if tan is not None:
             for k in range(n_steps):
-                x0, xm, x1 = xs[2 * k], xs[2 * k + 1], xs[2 * k + 2]
-                f0, fm, f1 = fs[2 * k], fs[2 * k + 1], fs[2 * k + 2]
-                a1, b1 = _tangential_rhs(s0, lam, mu, ktc, history, x0, f0, p, z)
-                a2, b2 = _tangential_rhs(
-                    s0, lam, mu, ktc, history, xm, fm, p + 0.5 * h * a1, z + 0.5 * h * b1
-                )
-                a3, b3 = _tangential_rhs(
-                    s0, lam, mu, ktc, history, xm, fm, p + 0.5 * h * a2, z + 0.5 * h * b2
-                )
-                a4, b4 = _tangential_rhs(s0, lam, mu, ktc, history, x1, f1, p + h * a3, z + h * b3)
-                p = p + h / 6.0 * (a1 + 2 * a2 + 2 * a3 + a4)
-                z = _project(history, z + h / 6.0 * (b1 + 2 * b2 + 2 * b3 + b4), x1, f1, mu, ktc)
-                ft = a4
-                ft_min = np.minimum(ft_min, ft)
-                ft_max = np.maximum(ft_max, ft)
+                mid = (qs[2 * k + 1], fs[2 * k + 1])
+                end = (qs[2 * k + 2], fs[2 * k + 2])
+                tan.step(h, ((qs[2 * k], fs[2 * k]), mid, mid, end), end)
         e_n = np.ones(N)
         tau_c = np.full(N, TC)
         f_max = np.full(N, 1.25)
         x_max = np.ones(N)
     else:
-        x = np.zeros(N)
-        u = np.ones(N)
-        tau_c = np.full(N, np.nan)
-        f_max = np.zeros(N)
-        x_max = np.zeros(N)
-        f_prev2 = np.zeros(N)
-        f_prev = np.zeros(N)
-        x_prev2 = np.zeros(N)
-        x_prev = np.zeros(N)
-        done = np.zeros(N, dtype=bool)
+        param = np.broadcast_to(np.asarray(param, dtype=float), (N,))
+        if law.name in _SELF_SIMILAR:
+            prm, inv = np.unique(param, return_inverse=True)
+            Kn, mn, vn, dn = 1.25, 1.0, 1.0, 1.0  # dimensionless: δ* = v0 = m* = 1
+        else:
+            prm, inv = param, None
+            Kn, mn, vn, dn = K, m_eff, v0, dstar
+        fsc = mn * vn**2 / dn
+        M = prm.size
+
+        def fn_of(x, u):
+            f = law.force(x * dn, u * vn, prm, Kn, mn, vn) / fsc
+            return np.where(x > 0, f, 0.0)
+
+        def g(a):
+            return a if inv is None else a[inv]
+
+        def q(x):
+            return g(np.sqrt(np.maximum(x, 0.0)))
+
+        x = np.zeros(M)
+        u = np.ones(M)
+        tau_c = np.full(M, np.nan)
+        f_max = np.zeros(M)
+        x_max = np.zeros(M)
+        f_prev2 = np.zeros(M)
+        f_prev = np.zeros(M)
+        x_prev2 = np.zeros(M)
+        x_prev = np.zeros(M)
+        done = np.zeros(M, dtype=bool)
+        f1 = fn_of(x, u)
         for k in range(200 * n_steps):
-            f1 = fn_of(x, u)
-            k1x, k1u = u, -f1
-            if mindlin:
-                a1, b1 = _tangential_rhs(s0, lam, mu, ktc, history, x, f1, p, z)
-            xa, ua = x + 0.5 * h * k1x, u + 0.5 * h * k1u
+            xa, ua = x + 0.5 * h * u, u - 0.5 * h * f1
             f2 = fn_of(xa, ua)
-            k2x, k2u = ua, -f2
-            if mindlin:
-                a2, b2 = _tangential_rhs(
-                    s0, lam, mu, ktc, history, xa, f2, p + 0.5 * h * a1, z + 0.5 * h * b1
-                )
-            xb, ub = x + 0.5 * h * k2x, u + 0.5 * h * k2u
+            xb, ub = x + 0.5 * h * ua, u - 0.5 * h * f2
             f3 = fn_of(xb, ub)
-            k3x, k3u = ub, -f3
-            if mindlin:
-                a3, b3 = _tangential_rhs(
-                    s0, lam, mu, ktc, history, xb, f3, p + 0.5 * h * a2, z + 0.5 * h * b2
-                )
-            xc, uc = x + h * k3x, u + h * k3u
+            xc, uc = x + h * ub, u - h * f3
             f4 = fn_of(xc, uc)
-            k4x, k4u = uc, -f4
-            if mindlin:
-                a4, b4 = _tangential_rhs(s0, lam, mu, ktc, history, xc, f4, p + h * a3, z + h * b3)
-            xn = x + h / 6.0 * (k1x + 2 * k2x + 2 * k3x + k4x)
-            un = u + h / 6.0 * (k1u + 2 * k2u + 2 * k3u + k4u)
+            xn = x + h / 6.0 * (u + 2.0 * (ua + ub) + uc)
+            un = u - h / 6.0 * (f1 + 2.0 * (f2 + f3) + f4)
             fnew = fn_of(xn, un)
-            if mindlin:
-                p = p + h / 6.0 * (a1 + 2 * a2 + 2 * a3 + a4)
-                z = _project(history, z + h / 6.0 * (b1 + 2 * b2 + 2 * b3 + b4), xn, fnew, mu, ktc)
-                ft_min = np.minimum(ft_min, a4)
-                ft_max = np.maximum(ft_max, a4)
+            if tan is not None:
+                end = (q(xn), g(fnew))
+                tan.step(h, ((q(x), g(f1)), (q(xa), g(f2)), (q(xb), g(f3)), (q(xc), g(f4))), end)
             # separation within this step: δ crosses 0, or Fn reaches 0 while restituting
             sep = ~done & (k > 0) & (un < 0) & ((xn <= 0) | (fnew <= 0))
             if np.any(sep):
-                tau_c[sep] = (
-                    k + _crossing(x[sep], u[sep], xn[sep], un[sep], fnew[sep], f1[sep], h)
-                ) * h
+                theta = _crossing(x[sep], u[sep], xn[sep], un[sep], fnew[sep], f1[sep], h)
+                tau_c[sep] = (k + theta) * h
                 done |= sep
             # peaks: parabola through the last three node values
-            for val, prev, prev2, best in (
-                (f1, f_prev, f_prev2, f_max),
-                (x, x_prev, x_prev2, x_max),
-            ):
-                if k >= 2:
+            if k >= 2:
+                for val, prev, prev2, best in (
+                    (f1, f_prev, f_prev2, f_max),
+                    (x, x_prev, x_prev2, x_max),
+                ):
                     peak = (prev >= prev2) & (prev > val)
                     den = val - 2 * prev + prev2
                     with np.errstate(divide="ignore", invalid="ignore"):
@@ -866,18 +880,22 @@ def _batch_group(
                     best[...] = np.where(peak, np.maximum(best, ref), np.maximum(best, prev))
             f_prev2, f_prev = f_prev, f1
             x_prev2, x_prev = x_prev, x
-            x, u = xn, un
+            x, u, f1 = xn, un, fnew
             if done.all():
                 break
         else:
             raise RuntimeError("impact_outcomes: some bodies did not separate")
-        e_n = -u
+        e_n, tau_c, f_max, x_max = g(-u), g(tau_c), g(f_max), g(x_max)
     if tangential == "coulomb":
         p = np.minimum(mu * (1.0 + e_n), s0 / lam)  # Routh's broken line (PHYSICS.md §3)
+        reverses = np.zeros(N, dtype=bool)
     elif tangential == "none":
         p = np.zeros(N)
-    tiny = 1e-9 * np.maximum(mu, 1e-12)
-    reverses = (ft_min < -tiny) & (ft_max > tiny)
+        reverses = np.zeros(N, dtype=bool)
+    else:
+        p = tan.p
+        tiny = 1e-9 * np.maximum(mu, 1e-12)
+        reverses = (tan.ft_min < -tiny) & (tan.ft_max > tiny)
     return {
         "e_n": e_n,
         "p": p,
