@@ -213,3 +213,31 @@ def test_cumulative_percussion_pads_zero_ends_and_integrates_exactly():
     np.testing.assert_allclose(P, exact, atol=1e-12)
     tp, P = cumulative_percussion(t, F, method="trapezoid", t_start=1.0, t_end=2.0)
     assert P[-1] == pytest.approx(1.0 - 1.0 / 100.0, rel=1e-12)  # trapezoid error h²/12·∫F''
+
+
+def test_digitised_channels_on_their_own_instants():
+    # WebPlotDigitizer-like: Fn at 41 points, Ft at 29 other points inside the contact;
+    # each channel is integrated on its own points (padded with F = 0 at the window ends)
+    # and put on the common grid. Sparse points: PHYSICS.md §4 totals within 3e-3.
+    tn = np.linspace(0.0, IMPACT.t_c, 41)
+    tt = np.linspace(0.0, IMPACT.t_c, 31)[1:-1] + 0.7e-6
+    tu = np.union1d(tn, tt)
+    Fn = np.interp(tu, tn, hertz_pulse(tn, IMPACT)["F"])
+    Ft = np.interp(tu, tt, MU * hertz_pulse(tt, IMPACT)["F"], left=np.nan, right=np.nan)
+    rec = make_record(
+        tu,
+        {"Fn": Fn, "Ft": Ft},
+        measured={"Fn": np.isin(tu, tn), "Ft": np.isin(tu, tt)},
+        attrs={"source": "d.csv", "format": "wpd", "kind": "digitised"},
+    )
+    w = find_contact(rec)
+    p = percussions(w, fitted(w, method="spline"))
+    assert p.time.size == tu.size
+    for src in SOURCES:
+        assert p.Pn(src)[-1] == pytest.approx(2 * MV, rel=3e-3), src
+        assert p.Pt(src)[-1] == pytest.approx(2 * MU * MV, rel=3e-3), src
+    assert p.disagreement_n < 3e-3 * p.Pn_total
+    assert p.disagreement_t < 3e-3 * p.Pt_total
+    s = compression_split(p, SCENE)
+    assert s.e_poisson == pytest.approx(1.0, abs=3e-3)
+    assert s.Pt_c == pytest.approx(MU * MV, rel=3e-3)
