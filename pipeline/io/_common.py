@@ -35,6 +35,10 @@ __all__ = [
 #: Ox tangential, Oy out of plane).
 DEFAULT_AXES = {"Fn": "Fz", "Ft": "Fx", "Fy": "Fy"}
 TIME_NAMES = {"time", "t"}
+#: A decimal number as the readers accept it (decimal point; commas replaced before).
+NUMBER = re.compile(r"^[+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?$")
+#: Tokens pandas reads as NaN/inf; reported as "NaN or infinite", not as "not a number".
+NONFINITE = re.compile(r"^[+-]?(?:nan|inf|infinity)$", re.IGNORECASE)
 FORCE_NAMES = {"fn": "Fn", "ft": "Ft", "fx": "Fx", "fy": "Fy", "fz": "Fz"}
 FORCE_COLUMNS = tuple(FORCE_NAMES.values())
 

@@ -49,6 +49,8 @@ from ..record import make_record
 from ._common import (
     DEFAULT_AXES,
     FORCE_COLUMNS,
+    NONFINITE,
+    NUMBER,
     atomic_write_text,
     base_attrs,
     canonical_column,
@@ -129,7 +131,7 @@ def write_sensor(record, path, *, metadata: dict | None = None) -> Path:
         if bad.any():
             i = int(np.argmax(bad))
             raise InputError(
-                f"cannot write {name}: it is not finite at t = {time[i]!r} s (sample {i}); "
+                f"cannot write {name}: it is not finite at t = {float(time[i])!r} s (sample {i}); "
                 "a sensor CSV needs every channel at every instant",
                 path=path,
             )
@@ -302,12 +304,10 @@ def _diagnose(body, first_line, sep, dec, names, p, original):
         for name, cell in zip(names, cells, strict=True):
             if name is None:
                 continue
-            c = cell.strip().strip('"')
+            c = cell.strip().strip('"').strip()
             if dec == ",":
-                c = c.replace(",", ".")
-            try:
-                float(c)
-            except ValueError:
+                c = "x" if "." in c else c.replace(",", ".")
+            if not (c == "" or NUMBER.match(c) or NONFINITE.match(c)):
                 raise InputError(
                     f"cell {cell.strip()!r} is not a number; fix or delete this line "
                     f"(decimal {'comma' if dec == ',' else 'point'} expected)",
@@ -412,9 +412,9 @@ def parse_sensor_bytes(
             decimal=dec,
             header=None,
             names=labels,
-            usecols=[labels[j] for j in sorted(wanted)],
             index_col=False,
-            dtype=float,
+            # no usecols: with it pandas silently drops surplus fields on a line
+            dtype={lab: (float if j in wanted else object) for j, lab in enumerate(labels)},
             engine="c",
             skip_blank_lines=True,
         )
@@ -428,7 +428,7 @@ def parse_sensor_bytes(
         raise InputError(
             "a single sample: a record needs at least two time samples", path=p, line=first_line
         )
-    cols = {wanted[int(lab[1:])]: frame[lab].to_numpy() for lab in frame.columns}
+    cols = {wanted[j]: frame[labels[j]].to_numpy() for j in sorted(wanted)}
     # Too few fields on a line fill NaN silently: check every used column for non-finite.
     for key, values in cols.items():
         bad = ~np.isfinite(values)
@@ -449,8 +449,8 @@ def parse_sensor_bytes(
             col_name = shown[[names[j] for j in range(len(names))].index(key)]
             what = "time" if key == "time" else "force"
             raise InputError(
-                f"{what} value {values[row]!r} is missing, NaN or infinite; repair or delete "
-                "this line",
+                f"{what} value {float(values[row])!r} is missing, NaN or infinite; repair or "
+                "delete this line",
                 path=p,
                 line=line,
                 column=col_name,
@@ -462,8 +462,8 @@ def parse_sensor_bytes(
         line = _row_line(str(body), first_line, i + 1)
         verb = "repeats" if steps[i] == 0 else "goes backwards"
         raise InputError(
-            f"time {verb} ({cols['time'][i]!r} then {cols['time'][i + 1]!r} {t_unit}); time "
-            "must strictly increase: remove duplicate rows or sort the file",
+            f"time {verb} ({float(cols['time'][i])!r} then {float(cols['time'][i + 1])!r} "
+            f"{t_unit}); time must strictly increase: remove duplicate rows or sort the file",
             path=p,
             line=line,
             column=time_col[1],

@@ -16,6 +16,7 @@ property; ``force_unit=`` supplies one where the file has none.
 from __future__ import annotations
 
 import io
+import logging
 
 import numpy as np
 
@@ -46,14 +47,37 @@ def _open(raw: bytes, p):
             "measurement as .tdms again",
             path=p,
         )
+    # npTDMS reads what it can of a truncated file and only logs a warning: catch those
+    # warnings, a shortened record must not pass as a whole one.
+    log = logging.getLogger("nptdms")
+    caught = _Collect()
+    log.addHandler(caught)
     try:
-        return TdmsFile.read(io.BytesIO(raw))
+        tdms = TdmsFile.read(io.BytesIO(raw))
     except Exception as exc:  # npTDMS raises many types on a corrupt file
         raise InputError(
             f"cannot read this TDMS file ({type(exc).__name__}: {exc}); it is corrupt or "
             "truncated — copy it again from the acquisition PC",
             path=p,
         ) from exc
+    finally:
+        log.removeHandler(caught)
+    if caught.messages:
+        raise InputError(
+            f"this TDMS file is truncated or corrupt (npTDMS: {caught.messages[0]}); copy it "
+            "again from the acquisition PC",
+            path=p,
+        )
+    return tdms
+
+
+class _Collect(logging.Handler):
+    def __init__(self):
+        super().__init__(level=logging.WARNING)
+        self.messages = []
+
+    def emit(self, record):
+        self.messages.append(record.getMessage())
 
 
 def _columns(group):
@@ -202,8 +226,8 @@ def read_tdms(path, *, time_unit=None, force_unit=None, axes=None, group=None, *
         i = int(np.argmax(~(steps > 0)))
         verb = "repeats" if steps[i] == 0 else "goes backwards"
         raise InputError(
-            f"time {verb} at sample {i + 1} ({t_raw[i]!r} then {t_raw[i + 1]!r} {t_unit}) in "
-            f"the {where}; time must strictly increase",
+            f"time {verb} at sample {i + 1} ({float(t_raw[i])!r} then "
+            f"{float(t_raw[i + 1])!r} {t_unit}) in the {where}; time must strictly increase",
             path=p,
         )
     forces, units = {}, set()
@@ -218,7 +242,7 @@ def read_tdms(path, *, time_unit=None, force_unit=None, axes=None, group=None, *
         if bad.any():
             i = int(np.argmax(bad))
             raise InputError(
-                f"force value {values[i]!r} at sample {i} is NaN or infinite; repair the "
+                f"force value {float(values[i])!r} at sample {i} is NaN or infinite; repair the "
                 "channel or cut the record",
                 path=p,
                 column=ch.name,

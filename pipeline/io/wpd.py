@@ -49,7 +49,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..record import FORCE_CHANNELS, make_record
-from ._common import base_attrs, decode, read_raw, scene_attrs
+from ._common import NONFINITE, NUMBER, base_attrs, decode, read_raw, scene_attrs
 from .units import resolve_unit
 
 __all__ = ["read_wpd", "CHANNEL_SPELLINGS"]
@@ -73,8 +73,6 @@ CHANNEL_SPELLINGS = {
     "Fy": {"fy", "outofplane", "outofplaneforce", "lateral", "lateralforce"},
 }
 
-_NUMBER = re.compile(r"^[+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?$")
-_NONFINITE = re.compile(r"^[+-]?(?:nan|inf|infinity)$", re.IGNORECASE)
 _LINE_END = re.compile(r"\r\n|\n|\r")
 _UNIT_HINT = {
     "time": " — the unit of the digitised plot's x axis, e.g. time_unit='ms'",
@@ -96,7 +94,7 @@ def _channel_of(name: str) -> str | None:
 
 def _channel_from_filename(p: Path) -> str | None:
     stem = p.stem
-    tokens = [t for t in re.split(r"[^0-9A-Za-z]+", stem) if t]
+    tokens = re.findall(r"[A-Za-z]+", stem)  # "wpd_Fn1" -> wpd, Fn
     candidates = {stem, *tokens}
     candidates |= {a + b for a, b in zip(tokens, tokens[1:], strict=False)}
     found = {_channel_of(c) for c in candidates if len(_squash(c)) > 1} - {None}
@@ -115,9 +113,9 @@ def _number(cell: str, dec: str, p: Path, lineno: int, column: str, what: str) -
                 column=column,
             )
         c = c.replace(",", ".")
-    if _NUMBER.match(c):
+    if NUMBER.match(c):
         return float(c)
-    if _NONFINITE.match(c):
+    if NONFINITE.match(c):
         raise InputError(
             f"{what} value {cell.strip()!r} is NaN or infinite; delete or repair this point",
             path=p,
@@ -163,7 +161,7 @@ def _sorted_points(x, y, linenos, p: Path, dataset: str):
         i = int(dup[0])
         a, b = sorted((int(linenos[i]), int(linenos[i + 1])))
         raise InputError(
-            f"dataset {dataset!r} has two points at x = {x[i]!r} (lines {a} and {b}); time "
+            f"dataset {dataset!r} has two points at x = {float(x[i])!r} (lines {a} and {b}); time "
             "must strictly increase: delete one of the two clicks",
             path=p,
             line=b,

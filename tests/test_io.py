@@ -1,0 +1,552 @@
+"""Readers and writer of pipeline.io: formats, units, axes, and every bad input.
+
+Ground truth here is either the text of the file itself (a row written by hand and read
+back) or the closed-form Hertz pulse the samples were made from (Johnson, Contact Mechanics,
+1985, doi:10.1017/CBO9781139171731; PHYSICS.md §4), never the reader's own earlier output.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from pipeline.errors import InputError, PlaneImpactWarning
+from pipeline.io import load, read_sensor, read_tdms, read_wpd, sniff_format, validate, write_sensor
+from pipeline.record import channel, make_record
+
+ROOT = Path(__file__).resolve().parents[1]
+SAMPLES = ROOT / "data_samples"
+sys.path.insert(0, str(ROOT / "scripts"))
+import make_format_samples as samples  # noqa: E402
+
+from pipeline.contact import hertz_impact, hertz_pulse  # noqa: E402
+
+IMPACT = hertz_impact(samples.SCENE)
+
+
+def _write(tmp_path, name, content):
+    p = tmp_path / name
+    if isinstance(content, str):
+        content = content.encode("utf-8")
+    p.write_bytes(content)
+    return p
+
+
+def _raises(path, fragment, **kw):
+    """load(path) raises InputError whose message names the file and holds ``fragment``."""
+    with pytest.raises(InputError) as info:
+        load(path, **kw)
+    msg = str(info.value)
+    assert type(info.value) is InputError
+    assert Path(path).name in msg, msg
+    assert fragment in msg, msg
+    return info.value
+
+
+# ----------------------------------------------------------------- write_sensor round trip
+def _record(n=200, seed=0, **attrs):
+    rng = np.random.default_rng(seed)
+    t = np.cumsum(rng.uniform(1e-7, 1e-6, n)) - 3e-5
+    forces = {
+        "Fn": rng.normal(0, 300, n),
+        "Ft": rng.normal(0, 30, n) * 1e-7,  # tiny values: digits must survive
+        "Fy": rng.normal(0, 1, n),
+    }
+    base = {"source": "gen", "format": "simulated", "kind": "simulated", "radius": 0.0127}
+    return make_record(t, forces, attrs={**base, **attrs})
+
+
+def test_write_sensor_round_trip_is_exact(tmp_path):
+    rec = _record()
+    p = write_sensor(rec, tmp_path / "r.csv", metadata={"operator": "A. Lab"})
+    back = read_sensor(p)
+    for name in ("Fn", "Ft", "Fy"):
+        np.testing.assert_array_equal(back[name].values, rec[name].values)
+    np.testing.assert_array_equal(back["time"].values, rec["time"].values)
+    assert back.attrs["meta_operator"] == "A. Lab"
+    assert back.attrs["meta_radius"] == "0.0127"
+    assert back.attrs["format"] == "sensor_csv" and back.attrs["kind"] == "sensor"
+    # header and mapping as specified: Fn -> Fz, Ft -> Fx
+    lines = p.read_text().splitlines()
+    header = next(ln for ln in lines if not ln.startswith("#"))
+    assert header == "time [s],Fx [N],Fy [N],Fz [N]"
+    assert [q.name for q in tmp_path.iterdir()] == ["r.csv"]  # no temp file left behind
+
+
+def test_write_sensor_zero_fy_when_absent_and_overwrite_atomic(tmp_path):
+    t = np.arange(4) * 1e-6
+    rec = make_record(
+        t,
+        {"Fn": [0.0, 1.0, 2.0, 0.5], "Ft": [0.0, 0.1, 0.2, 0.05]},
+        attrs={"source": "x", "format": "simulated", "kind": "simulated"},
+    )
+    p = tmp_path / "r.csv"
+    p.write_text("old content")
+    write_sensor(rec, p)
+    back = read_sensor(p)
+    np.testing.assert_array_equal(back["Fy"].values, np.zeros(4))
+    np.testing.assert_array_equal(back["Fn"].values, [0.0, 1.0, 2.0, 0.5])
+
+
+def test_write_sensor_refuses_nan_and_bad_metadata(tmp_path):
+    rec = read_wpd(
+        {"Fn": SAMPLES / "wpd_Fn.csv", "Ft": SAMPLES / "wpd_Ft.csv"}, time_unit="us", force_unit="N"
+    )
+    with pytest.raises(InputError, match="not finite"):
+        write_sensor(rec, tmp_path / "d.csv")
+    with pytest.raises(InputError, match="metadata key"):
+        write_sensor(_record(), tmp_path / "m.csv", metadata={"a:b": 1})
+    assert not list(tmp_path.iterdir())
+
+
+# ------------------------------------------------------------------------- sensor dialects
+TRUTH_T = np.array([0.0, 1.5, 3.0, 4.5])  # in the file's time unit
+TRUTH = {"Fx": [0.25, -1.5, 2.0, 0.0], "Fy": [0.0, 0.01, -0.02, 0.0], "Fz": [1.0, 20.5, 3.25, 0.5]}
+
+
+def _sensor_text(sep=",", dec=".", t_unit="[us]", f_unit="[kN]", eol="\n", meta=True):
+    head = ["# operator: A. Lab", "# Sample rate = 2 MHz", "# free comment"] if meta else []
+    cols = [f"time {t_unit}", f"Fx {f_unit}", f"Fy {f_unit}", f"Fz {f_unit}"]
+    rows = [sep.join(cols)]
+    for k, t in enumerate(TRUTH_T):
+        vals = [t, TRUTH["Fx"][k], TRUTH["Fy"][k], TRUTH["Fz"][k]]
+        rows.append(sep.join(repr(float(v)).replace(".", dec) for v in vals))
+    return eol.join(head + rows) + eol
+
+
+@pytest.mark.parametrize(
+    "sep,dec,t_unit,t_factor,f_unit,f_factor,eol,bom",
+    [
+        (",", ".", "[s]", 1.0, "[N]", 1.0, "\n", False),
+        (";", ",", "(ms)", 1e-3, "(kN)", 1e3, "\r\n", True),
+        ("\t", ".", "[us]", 1e-6, "[mN]", 1e-3, "\r\n", False),
+        (";", ".", "[µs]", 1e-6, "[kN]", 1e3, "\n", True),  # micro sign U+00B5
+        ("\t", ",", "[μs]", 1e-6, "(N)", 1.0, "\n", False),  # Greek mu U+03BC
+        (",", ".", "(ns)", 1e-9, "[daN]", 10.0, "\r\n", True),
+    ],
+)
+def test_sensor_dialects_convert_to_si(
+    tmp_path, sep, dec, t_unit, t_factor, f_unit, f_factor, eol, bom
+):
+    text = _sensor_text(sep, dec, t_unit, f_unit, eol)
+    data = ("\ufeff" if bom else "") + text
+    p = _write(tmp_path, "dialect.csv", data)
+    rec = load(p)
+    np.testing.assert_allclose(rec["time"].values, TRUTH_T * t_factor, rtol=1e-15, atol=0)
+    np.testing.assert_allclose(rec["Fn"].values, np.array(TRUTH["Fz"]) * f_factor, rtol=1e-15)
+    np.testing.assert_allclose(rec["Ft"].values, np.array(TRUTH["Fx"]) * f_factor, rtol=1e-15)
+    np.testing.assert_allclose(rec["Fy"].values, np.array(TRUTH["Fy"]) * f_factor, rtol=1e-15)
+    assert rec.attrs["meta_operator"] == "A. Lab"
+    assert rec.attrs["meta_sample_rate"] == "2 MHz"
+    assert rec.attrs["meta_comment"] == "free comment"
+    assert rec.attrs["sha256"] == __import__("hashlib").sha256(p.read_bytes()).hexdigest()
+    assert rec["Fn"].attrs["units"] == "N" and rec["time"].attrs["units"] == "s"
+
+
+def test_sensor_utf16_and_explicit_encoding(tmp_path):
+    p = _write(tmp_path, "u16.csv", _sensor_text(sep="\t").encode("utf-16"))
+    np.testing.assert_allclose(load(p)["Fn"].values, np.array(TRUTH["Fz"]) * 1e3)
+    latin = _sensor_text(t_unit="[\u00b5s]").encode("cp1252")
+    p = _write(tmp_path, "cp1252.csv", latin)
+    err = _raises(p, "not valid UTF-8")
+    assert err.line == 4
+    rec = read_sensor(p, encoding="cp1252")
+    np.testing.assert_allclose(rec["time"].values, TRUTH_T * 1e-6)
+
+
+def test_sensor_fn_ft_columns_taken_as_they_are(tmp_path):
+    p = _write(tmp_path, "nt.csv", "t (ms),Ft (N),Fn (N)\n0,1,10\n1,2,20\n2,3,30\n")
+    rec = load(p)
+    np.testing.assert_array_equal(rec["Fn"].values, [10, 20, 30])
+    np.testing.assert_array_equal(rec["Ft"].values, [1, 2, 3])
+    assert "Fy" not in rec
+
+
+def test_sensor_axes_override(tmp_path):
+    p = _write(tmp_path, "ax.csv", _sensor_text(f_unit="[N]", t_unit="[s]"))
+    rec = load(p, axes={"Ft": "-Fx"})
+    np.testing.assert_array_equal(rec["Ft"].values, -np.array(TRUTH["Fx"]))
+    np.testing.assert_array_equal(rec["Fn"].values, TRUTH["Fz"])
+    assert rec.attrs["axes"] == "Fn=Fz,Ft=-Fx,Fy=Fy"
+    # a sensor mounted on its side; Fy dropped
+    rec = load(p, axes={"Fn": "Fx", "Ft": "Fz", "Fy": None})
+    np.testing.assert_array_equal(rec["Fn"].values, TRUTH["Fx"])
+    np.testing.assert_array_equal(rec["Ft"].values, TRUTH["Fz"])
+    assert "Fy" not in rec
+    _raises(p, "names no force column", axes={"Fn": "Fq"})
+    with pytest.raises(InputError, match="not a record channel"):
+        load(p, axes={"Fz": "Fz"})
+    with pytest.raises(InputError, match="two channels"):
+        load(p, axes={"Fn": "Fz", "Ft": "Fz"})
+
+
+def test_units_from_arguments_and_clashes(tmp_path):
+    p = _write(tmp_path, "nounit.csv", "time,Fx,Fz\n0,1,2\n1,2,3\n")
+    _raises(p, "time_unit=")
+    _raises(p, "force_unit=", time_unit="ms")
+    rec = load(p, time_unit="ms", force_unit="kN")
+    np.testing.assert_array_equal(rec["time"].values, [0.0, 1e-3])
+    np.testing.assert_array_equal(rec["Fn"].values, [2e3, 3e3])
+    q = _write(tmp_path, "unit.csv", "time [ms],Fx [kN],Fz [kN]\n0,1,2\n1,2,3\n")
+    _raises(q, "units in the file win", force_unit="N")
+    _raises(q, "units in the file win", time_unit="s")
+    assert load(q, force_unit="kN", time_unit="ms")["Fn"].values[0] == 2e3  # agreeing: fine
+    _raises(q, "not a force unit", force_unit="m")
+
+
+def test_plane_impact_warning(tmp_path):
+    big = "time [s],Fx [N],Fy [N],Fz [N]\n0,0,0.6,1\n1,0,0.1,10\n2,0,0,2\n"  # 6 % of peak Fn
+    p = _write(tmp_path, "plane.csv", big)
+    with pytest.warns(PlaneImpactWarning, match="plane.csv"):
+        load(p)
+    ok = big.replace("0,0.6,1", "0,0.4,1")  # 4 %: no warning (warnings are errors here)
+    load(_write(tmp_path, "ok.csv", ok))
+
+
+def test_ignored_columns_listed(tmp_path):
+    p = _write(tmp_path, "ign.csv", "time [s],trigger [V],Fz [N]\n0,5,1\n1,0,2\n")
+    rec = load(p)
+    assert rec.attrs["ignored_columns"] == "trigger [V]"
+    assert "Ft" not in rec
+
+
+# -------------------------------------------------------------------------- sensor: errors
+@pytest.mark.parametrize(
+    "name,content,fragment,line,column",
+    [
+        ("empty.csv", "", "empty", None, None),
+        ("blank.csv", "\n  \r\n", "empty", None, None),
+        ("bom_only.csv", "\ufeff", "empty", None, None),
+        ("meta_only.csv", "# a: 1\n# b: 2\n", "no header row", None, None),
+        ("header_only.csv", "# a: 1\ntime [s],Fz [N]\n", "header only", 2, None),
+        ("single.csv", "time [s],Fz [N]\n0,1\n", "single sample", 2, None),
+        ("text_cell.csv", "time [s],Fx [N],Fz [N]\n0,1,2\n1,abc,3\n2,1,1\n", "'abc'", 3, "Fx [N]"),
+        (
+            "nan.csv",
+            "time [s],Fx [N],Fz [N]\n0,1,2\n1,1,nan\n2,1,1\n",
+            "NaN or infinite",
+            3,
+            "Fz [N]",
+        ),
+        (
+            "inf.csv",
+            "time [s],Fx [N],Fz [N]\n0,1,2\n1,1,2\n2,-inf,1\n",
+            "NaN or infinite",
+            4,
+            "Fx [N]",
+        ),
+        ("gap.csv", "time [s],Fx [N],Fz [N]\n0,1,2\n\n1,,2\n2,1,1\n", "missing", 4, "Fx [N]"),
+        ("few.csv", "time [s],Fx [N],Fz [N]\n0,1,2\n1,2\n2,1,1\n", "has 2 fields", 3, None),
+        ("many.csv", "time [s],Fx [N],Fz [N]\n0,1,2\n1,2,3,4\n2,1,1\n", "has 4 fields", 3, None),
+        ("back.csv", "time [s],Fz [N]\n0,1\n2,2\n1,3\n", "goes backwards", 4, "time [s]"),
+        ("repeat.csv", "t [ms];Fz [N]\n0;1\n1;2\n1;3\n", "repeats", 4, "t [ms]"),
+        ("tunit.csv", "time [V],Fz [N]\n0,1\n1,2\n", "not a time unit", None, "time [V]"),
+        ("funit.csv", "time [s],Fz [mm]\n0,1\n1,2\n", "not a force unit", None, "Fz [mm]"),
+        (
+            "nofn.csv",
+            "time [s],Fx [N],Fy [N]\n0,1,0\n1,2,0\n",
+            "no normal-force channel",
+            None,
+            None,
+        ),
+        ("notime.csv", "x [s],Fz [N]\n0,1\n1,2\n", "no time column", 1, None),
+        ("onecol.csv", "time [s]\n0\n1\n", "single column", 1, None),
+        ("comma_dec_in_comma_sep.csv", "time [s],Fz [N]\n0,1\n1,2,5\n", "has 3 fields", 3, None),
+        ("point_in_comma_file.csv", "time [s];Fz [N]\n0;1,5\n1;2.5\n", "'2.5'", 3, "Fz [N]"),
+    ],
+)
+def test_sensor_bad_input(tmp_path, name, content, fragment, line, column):
+    p = _write(tmp_path, name, content)
+    err = _raises(p, fragment)
+    if line is not None:
+        assert err.line == line, str(err)
+    if column is not None:
+        assert err.column == column, str(err)
+
+
+def test_undecodable_body_bytes(tmp_path):
+    p = _write(tmp_path, "bytes.csv", b"time [s],Fz [N]\n0,1\n1,\xff\xfe2\n2,3\n")
+    err = _raises(p, "not valid UTF-8")
+    assert err.line == 3
+
+
+def test_missing_file_directory_and_scene_fields(tmp_path):
+    _raises(tmp_path / "nope.csv", "no such file")
+    with pytest.raises(InputError, match="directory"):
+        load(tmp_path)
+    p = _write(tmp_path, "ok.csv", "time [s],Fz [N]\n0,1\n1,2\n")
+    with pytest.raises(InputError, match="unknown keyword 'radiu'.*radius.*angle_deg"):
+        load(p, radiu=0.01)
+    with pytest.raises(InputError, match="must be a number"):
+        load(p, radius="1 cm")
+    with pytest.raises(InputError, match="must be a number"):
+        load(p, mu=True)
+    rec = load(p, radius=0.0127, angle_deg=15)
+    assert rec.attrs["radius"] == 0.0127 and rec.attrs["angle_deg"] == 15.0
+    with pytest.raises(InputError, match="channels= does not apply"):
+        load(p, channels={"Fn": "x"})
+
+
+def test_numbers_without_header_refused(tmp_path):
+    p = _write(tmp_path, "nohead.csv", "0,1,2,3\n1,2,3,4\n")
+    with pytest.raises(InputError, match="no header row") as info:
+        sniff_format(p)
+    assert "nohead.csv" in str(info.value)
+
+
+# --------------------------------------------------------------------- the sensor samples
+def test_sensor_sample_matches_hertz_truth():
+    rec = load(SAMPLES / "sensor_decimal_comma.csv", radius=0.0127)
+    assert sniff_format(SAMPLES / "sensor_decimal_comma.csv") == "sensor_csv"
+    assert rec.attrs["source_time_unit"] == "µs" and rec.attrs["source_force_unit"] == "kN"
+    t = rec["time"].values
+    np.testing.assert_allclose(t[0], -50e-6, rtol=1e-12)
+    np.testing.assert_allclose(np.diff(t), 0.5e-6, rtol=1e-9)  # 2 MHz
+    # first data row of the file, by hand: "-50,0;0,001270;0,002245;0,002606" (kN)
+    np.testing.assert_allclose([rec.Ft[0], rec.Fy[0], rec.Fn[0]], [1.270, 2.245, 2.606], rtol=1e-12)
+    truth = hertz_pulse(t, IMPACT)["F"]
+    resid = rec["Fn"].values - truth
+    # noise sigma 2 N plus 1.5 N offset (the script's documented sensor model)
+    assert abs(resid.mean() - 1.5) < 0.5
+    assert 1.5 < resid.std() < 2.5
+
+
+def test_tdms_sample_matches_hertz_truth():
+    p = SAMPLES / "sensor.tdms"
+    assert sniff_format(p) == "tdms"
+    rec = load(p)
+    t = rec["time"].values
+    n = t.size
+    np.testing.assert_allclose(t, -20e-6 + 1e-6 * np.arange(n), rtol=0, atol=1e-18)
+    resid = rec["Fn"].values - hertz_pulse(t, IMPACT)["F"]
+    assert abs(resid.mean()) < 0.6 and 1.5 < resid.std() < 2.5
+    assert rec.attrs["tdms_group"] == "Impact" and rec.attrs["format"] == "tdms"
+
+
+# ------------------------------------------------------------------------------- WPD
+def _wpd_rows(path, sep, dec):
+    rows = []
+    for line in Path(path).read_text().splitlines():
+        x, y = line.split(sep)
+        rows.append((float(x.replace(dec, ".")), float(y.replace(dec, "."))))
+    return np.array(sorted(rows))
+
+
+def test_wpd_single_sorted_and_named_from_file(tmp_path):
+    rec = load(SAMPLES / "wpd_Fn.csv", time_unit="us", force_unit="N")
+    assert rec.attrs["format"] == "wpd" and rec.attrs["kind"] == "digitised"
+    rows = _wpd_rows(SAMPLES / "wpd_Fn.csv", ",", ".")
+    np.testing.assert_allclose(rec["time"].values, rows[:, 0] * 1e-6, rtol=1e-15)
+    np.testing.assert_array_equal(rec["Fn"].values, rows[:, 1])
+    assert rec["Fn_measured"].values.all()
+    # digitised points lie on the Hertz pulse within the digitising noise (0.4 % F_max,
+    # 0.2 µs jitter): a wrong time unit would put them far off
+    truth = hertz_pulse(np.clip(rec["time"].values, 0, IMPACT.t_c), IMPACT)["F"]
+    assert np.max(np.abs(rec["Fn"].values - truth)) < 0.05 * IMPACT.F_max
+
+
+def test_wpd_single_channel_argument_and_unknown_name(tmp_path):
+    p = _write(tmp_path, "curve1.csv", "2, 20\n1, 10\n3, 5\n")
+    _raises(p, "channels='Fn'", time_unit="ms", force_unit="N")
+    rec = load(p, channels="Fn", time_unit="ms", force_unit="N")
+    np.testing.assert_array_equal(rec["time"].values, [1e-3, 2e-3, 3e-3])
+    np.testing.assert_array_equal(rec["Fn"].values, [10, 20, 5])
+    _raises(p, "is not a record channel", channels="Fz", time_unit="ms", force_unit="N")
+    with pytest.raises(InputError, match="axes= does not apply"):
+        load(p, axes={"Fn": "Fz"}, time_unit="ms", force_unit="N")
+    q = _write(tmp_path, "normal_force.csv", "0;1,5\n1;2,5\n")
+    rec = load(q, time_unit="s", force_unit="kN")
+    np.testing.assert_array_equal(rec["Fn"].values, [1500.0, 2500.0])
+
+
+def test_wpd_combined_exports_keep_every_point():
+    paths = {"Fn": SAMPLES / "wpd_Fn.csv", "Ft": SAMPLES / "wpd_Ft.csv"}
+    rec = load(paths, time_unit="us", force_unit="N")
+    fn = _wpd_rows(paths["Fn"], ",", ".")
+    ft = _wpd_rows(paths["Ft"], ";", ",")
+    t_fn, v_fn = channel(rec, "Fn")
+    t_ft, v_ft = channel(rec, "Ft")
+    np.testing.assert_allclose(t_fn, fn[:, 0] * 1e-6, rtol=1e-15)
+    np.testing.assert_array_equal(v_fn, fn[:, 1])
+    np.testing.assert_allclose(t_ft, ft[:, 0] * 1e-6, rtol=1e-15)
+    np.testing.assert_array_equal(v_ft, ft[:, 1])
+    assert rec.sizes["time"] == len(np.union1d(fn[:, 0], ft[:, 0]))
+    # between its own points a channel is the linear interpolation; outside its span NaN
+    t = rec["time"].values
+    k = np.flatnonzero(~rec["Fn_measured"].values & ~np.isnan(rec["Fn"].values))[0]
+    i = np.searchsorted(t_fn, t[k])
+    lam = (t[k] - t_fn[i - 1]) / (t_fn[i] - t_fn[i - 1])
+    np.testing.assert_allclose(
+        rec["Fn"].values[k], (1 - lam) * v_fn[i - 1] + lam * v_fn[i], rtol=1e-12
+    )
+    outside = (t < t_fn[0]) | (t > t_fn[-1])
+    assert outside.any() and np.isnan(rec["Fn"].values[outside]).all()
+    # the list form gives the same record
+    same = load([paths["Fn"], paths["Ft"]], time_unit="us", force_unit="N")
+    np.testing.assert_array_equal(same["Ft"].values, rec["Ft"].values)
+    assert rec.attrs["source"] == "wpd_Fn.csv,wpd_Ft.csv"
+    assert len(rec.attrs["sha256"].split(",")) == 2
+    validate(rec)
+
+
+def test_wpd_ft_alone_has_no_normal_force():
+    p = SAMPLES / "wpd_Ft.csv"
+    _raises(p, "no normal-force channel", time_unit="us", force_unit="N")
+
+
+def test_wpd_datasets_sample():
+    p = SAMPLES / "wpd_datasets.csv"
+    assert sniff_format(p) == "wpd_datasets"
+    rec = load(p, time_unit="us", force_unit="N", radius=0.0127)
+    assert rec.attrs["channels"] == "Fn=Normal force,Ft=Tangential force"
+    assert int(rec["Fn_measured"].sum()) == 28 and int(rec["Ft_measured"].sum()) == 19
+    t, f = channel(rec, "Fn")
+    truth = hertz_pulse(np.clip(t, 0, IMPACT.t_c), IMPACT)["F"]
+    assert np.max(np.abs(f - truth)) < 0.05 * IMPACT.F_max
+
+
+DATASETS = "normal,,Friction,,junk,\nX,Y,X,Y,X,Y\n3,30,1,1,0,0\n1,10,2,2,1,1\n2,20,,,2,2\n"
+
+
+def test_wpd_datasets_mapping_padding_and_override(tmp_path):
+    p = _write(tmp_path, "wpd_datasets.csv", DATASETS)
+    rec = load(p, time_unit="s", force_unit="N")
+    np.testing.assert_array_equal(channel(rec, "Fn")[1], [10, 20, 30])
+    np.testing.assert_array_equal(channel(rec, "Ft")[0], [1, 2])
+    assert rec.attrs["ignored_datasets"] == "junk"
+    rec = load(p, channels={"Fn": "JUNK", "Ft": "normal"}, time_unit="s", force_unit="N")
+    np.testing.assert_array_equal(channel(rec, "Fn")[1], [0, 1, 2])
+    _raises(p, "names no dataset", channels={"Fn": "missing"}, time_unit="s", force_unit="N")
+    q = _write(tmp_path, "two.csv", "Fn,,normal force,\nX,Y,X,Y\n0,1,0,1\n1,2,1,2\n")
+    _raises(q, "both look like Fn", time_unit="s", force_unit="N")
+    r = _write(tmp_path, "dc.csv", "Fn;;Ft;\nX;Y;X;Y\n0,5;1,5;0;1\n1,5;2,5;;\n2;1;1;2\n")
+    rec = load(r, time_unit="ms", force_unit="N")
+    np.testing.assert_allclose(channel(rec, "Fn")[0], [0.5e-3, 1.5e-3, 2e-3])
+
+
+@pytest.mark.parametrize(
+    "name,content,kw,fragment,line",
+    [
+        ("Fn1.csv", "1,2\n2,3\n", {"force_unit": "N"}, "time_unit=", None),
+        ("Fn2.csv", "1,2\n2,3\n", {"time_unit": "ms"}, "force_unit=", None),
+        ("Fn3.csv", "1,2\n2,3\n", {"time_unit": "kg", "force_unit": "N"}, "not a time unit", None),
+        (
+            "Fn3b.csv",
+            "1,2\n2,3\n",
+            {"time_unit": "s", "force_unit": "Pa"},
+            "not a force unit",
+            None,
+        ),
+        ("Fn4.csv", "1,2\n3,3\n1,5\n", {}, "two points at x = 1.0 (lines 1 and 3)", 3),
+        ("Fn5.csv", "1,2\n", {}, "single point", 1),
+        ("Fn6.csv", "1,2\n2,x\n", {}, "'x' is not a number", 2),
+        ("Fn7.csv", "1,2\n2,nan\n", {}, "NaN or infinite", 2),
+        ("Fn8.csv", "1,2\n2,inf\n", {}, "NaN or infinite", 2),
+        ("Fn9.csv", "1,2\n2,3,4\n", {}, "has 3 fields", 2),
+        ("Fn10.csv", "1,5;2\n2;3.5\n", {}, "decimal point in a decimal-comma file", 2),
+        ("Fn10b.csv", "1;2\n2;3.5\n2;1\n", {}, "two points at x = 2.0", 3),
+        ("Fn11.csv", "1,2\n2,1_0\n", {}, "not a number", 2),
+        ("ds1.csv", "Fn,,Ft,\nX,Y,X,Y\n1,2,3,\n2,3,4,5\n", {}, "x without a y", 3),
+        ("ds2.csv", "Fn,,Ft,\nX,Y,X,Y\n1,2,3,4\n", {}, "single point", 3),
+        ("ds3.csv", "A,,B,\nX,Y,X,Y\n1,2,3,4\n2,3,4,5\n", {}, "no normal-force channel", None),
+        ("ds4.csv", "Fn,,\nX,Y,X,Y\n1,2,3,4\n2,3,4,5\n", {}, "has no name", 1),
+        ("ds5.csv", "Fn,,Ft,\nX,Y,X,Y\n1,2,3,4,5,6\n2,3,4,5\n", {}, "has 6 fields", 3),
+    ],
+)
+def test_wpd_bad_input(tmp_path, name, content, kw, fragment, line):
+    p = _write(tmp_path, name, content)
+    units = {"time_unit": "ms", "force_unit": "N"}
+    args = kw if "unit" in fragment else {**units, **kw}
+    err = _raises(p, fragment, **args)
+    if line is not None:
+        assert err.line == line, str(err)
+
+
+# ------------------------------------------------------------------------------- TDMS
+def _tdms(path, channels, groups=("Impact",), root=None):
+    from nptdms import ChannelObject, GroupObject, RootObject, TdmsWriter
+
+    objs = [RootObject(root or {})]
+    for g in groups:
+        objs.append(GroupObject(g))
+        for name, data, props in channels:
+            objs.append(ChannelObject(g, name, np.asarray(data), properties=props))
+    with TdmsWriter(str(path)) as w:
+        w.write_segment(objs)
+    return path
+
+
+WF = {"wf_start_offset": 0.0, "wf_increment": 2.0, "wf_samples": 3, "wf_xunit_string": "ms"}
+
+
+def test_tdms_units_time_channel_and_groups(tmp_path):
+    p = _tdms(
+        tmp_path / "a.tdms",
+        [
+            ("Fz", [1.0, 2.0, 3.0], {"unit_string": "kN", **WF}),
+            ("Fx", [0.1, 0.2, 0.3], {"unit_string": "kN", **WF}),
+        ],
+    )
+    rec = read_tdms(p)
+    np.testing.assert_allclose(rec["time"].values, [0.0, 2e-3, 4e-3], rtol=1e-15)
+    np.testing.assert_allclose(rec["Fn"].values, [1e3, 2e3, 3e3], rtol=1e-15)
+    np.testing.assert_allclose(rec["Ft"].values, [100.0, 200.0, 300.0], rtol=1e-15)
+    rec = load(p, axes={"Ft": "-Fx"})
+    np.testing.assert_allclose(rec["Ft"].values, [-100.0, -200.0, -300.0], rtol=1e-15)
+    _raises(p, "units in the file win", force_unit="N")
+    # explicit time channel in microseconds, no waveform properties
+    q = _tdms(
+        tmp_path / "b.tdms",
+        [("time", [0.0, 1.0, 2.5], {"unit_string": "us"}), ("Fn", [1.0, 2.0, 3.0], {})],
+    )
+    _raises(q, "force_unit=")
+    rec = load(q, force_unit="N")
+    np.testing.assert_allclose(rec["time"].values, [0.0, 1e-6, 2.5e-6], rtol=1e-15)
+    r = _tdms(
+        tmp_path / "c.tdms",
+        [("Fz", [1.0, 2.0, 3.0], {"unit_string": "N", **WF})],
+        groups=("A", "B"),
+    )
+    _raises(r, "group=")
+    assert read_tdms(r, group="B").attrs["tdms_group"] == "B"
+
+
+@pytest.mark.parametrize(
+    "channels,fragment",
+    [
+        ([("Fz", [1.0, 2.0, 3.0], {"unit_string": "N"})], "no time track"),
+        ([("Mz", [1.0, 2.0, 3.0], {"unit_string": "N", **WF})], "no force channels"),
+        (
+            [
+                ("Fz", [1.0, 2.0, 3.0], {"unit_string": "N", **WF}),
+                ("Fx", [1.0, 2.0], {"unit_string": "N", **WF}),
+            ],
+            "different lengths",
+        ),
+        ([("Fz", [1.0, np.nan, 3.0], {"unit_string": "N", **WF})], "NaN or infinite"),
+        ([("Fz", [1.0], {"unit_string": "N", **WF})], "single sample"),
+        ([("Fz", [1.0, 2.0, 3.0], {"unit_string": "V", **WF})], "not a force unit"),
+        ([("Fz", [1.0, 2.0, 3.0], {"unit_string": "N", **WF, "wf_increment": 0.0})], "repeats"),
+        (
+            [
+                ("time", [0.0, 2.0, 1.0], {"unit_string": "s"}),
+                ("Fz", [1.0, 2.0, 3.0], {"unit_string": "N"}),
+            ],
+            "goes backwards",
+        ),
+    ],
+)
+def test_tdms_bad_input(tmp_path, channels, fragment):
+    p = _tdms(tmp_path / "bad.tdms", channels)
+    _raises(p, fragment)
+
+
+def test_tdms_corrupt_and_not_tdms(tmp_path):
+    good = (SAMPLES / "sensor.tdms").read_bytes()
+    p = _write(tmp_path, "cut.tdms", good[: len(good) // 2])
+    _raises(p, "TDMS")
+    q = _write(tmp_path, "fake.tdms", b"time [s],Fz [N]\n0,1\n1,2\n")
+    _raises(q, "not a TDMS file")
