@@ -139,3 +139,34 @@ def test_apply_window_to_the_raw_record_reproduces_the_window_record():
     w = find_contact(rec)
     again = apply_window(rec, w)
     np.testing.assert_array_equal(again["Fn"].values, w.record["Fn"].values)
+
+
+def test_window_on_the_sensor_model_output():
+    # the project's rig model (pipeline.sensor_model.to_sensor: cross-talk, causal
+    # 300 kHz Butterworth, offset, drift, 2 N noise, 16-bit ADC) applied to the exact pulse
+    from pipeline.sensor_model import SENSOR_DEFAULTS, to_sensor
+
+    h = IMPACT.t_c / 2000
+    t = np.arange(-5, 2006) * h
+    F = hertz_pulse(t, IMPACT)["F"]
+    ideal = make_record(
+        t,
+        {"Fn": F, "Ft": 0.2 * F, "Fy": 0.0 * F},
+        attrs={"source": "hertz_pulse", "format": "test", "kind": "simulated"},
+    )
+    # 1 ms of baseline: the MAD noise estimate then has a s.e. of ≈1.17/√2000 ≈ 2.6 %
+    rec = to_sensor(ideal, seed=5, pre_trigger=500e-6, post_trigger=500e-6)
+    w = find_contact(rec)
+    # the causal order-2 Butterworth delays the pulse by √2/(2π f_c) (sensor_model notes)
+    delay = np.sqrt(2.0) / (2 * np.pi * SENSOR_DEFAULTS["bandwidth"])
+    tol = (
+        1.0 / SENSOR_DEFAULTS["rate"]
+        + (3 * SENSOR_DEFAULTS["noise"] / IMPACT.K) ** (2 / 3) / IMPACT.v0
+    )
+    assert abs(w.t_start - delay) < tol
+    assert abs(w.t_end - (IMPACT.t_c + delay)) < tol
+    assert w.noise["Fn"] == pytest.approx(SENSOR_DEFAULTS["noise"], rel=0.10)
+    tt = np.concatenate([[w.t_start], w.record["time"].values, [w.t_end]])
+    Fn = np.concatenate([[0.0], w.record["Fn"].values, [0.0]])
+    # cross-talk (±2 %) from Ft = 0.2·Fn into Fn bounds the impulse error at ~0.4 %
+    assert integrate.trapezoid(Fn, tt) == pytest.approx(2 * IMPACT.m_eff * IMPACT.v0, rel=0.01)
