@@ -19,9 +19,27 @@ Damped laws of the Hunt–Crossley family share one force law
 :math:`F = K\delta^{3/2}(1 + c\,\dot\delta/v_0)` whose coefficient of restitution depends on
 ``c`` alone through the exact energy integral :math:`c(1+e) = \ln[(1+c)/(1-ce)]`.
 
+Genuinely different force shapes: the Hertz spring with a linear dashpot scaled by the
+contact stiffness, :math:`F = K\delta^{3/2} + 2\zeta\sqrt{m^*k(\delta)}\,\dot\delta`
+(Tsuji et al. 1992; tangent or secant k), whose COR depends on ζ alone, and the viscoelastic
+law :math:`F = K(\delta^{3/2} + \tfrac32 A\sqrt\delta\,\dot\delta)` (Kuwabara & Kono 1987;
+Brilliantov et al. 1996), whose COR depends on :math:`\gamma = A v_0^{1/5}(K/m^*)^{2/5}`.
+
+All these laws are self-similar: in units δ* = (m*·v0²/K)^{2/5}, δ*/v0 the impact reads
+x'' = −f(x, x'; p) with one dimensionless parameter p, so e(p) is computed once — exactly
+from the energy integral for the Hunt–Crossley family, from a table of the dimensionless
+ODE (solved once, stored below with the function that made it) for the others — and
+calibration inverts it without integrating anything per call. No law is adhesive: every
+force is clipped at F ≥ 0 and the contact ends when δ returns to zero (for the dashpot and
+viscoelastic laws the force reaches zero first, at δ > 0; the ball then moves freely, so
+its rebound speed is fixed at that instant).
+
 Every normal law is a :class:`NormalLaw` in :data:`NORMAL_LAWS`: a vectorised force
-function ``force(delta, delta_dot, param, K, m_eff, v0)`` [N] and a calibration
-``calibrate(e)`` returning the damping parameter that gives restitution ``e``.
+function ``force(delta, delta_dot, param, K, m_eff, v0)`` [N], a calibration
+``calibrate(e)`` returning the damping parameter that gives restitution ``e``, the COR a
+parameter gives (``cor``), the paper's closed-form guess, and ``material_to_param``
+mapping a speed-independent material constant (α [s/m], ζ [-], A [s]) to the parameter of
+an impact at speed v0, so a campaign can hold the material fixed and let e vary with speed.
 """
 
 from __future__ import annotations
@@ -221,6 +239,13 @@ def hunt_crossley(delta, delta_dot, c, K, v0):
     c : dimensionless damping [-] (``c = α·v0`` for a material constant α [s/m])
     K : Hertz stiffness [N/m^1.5]
     v0 : initial approach speed [m/s]
+
+    Notes
+    -----
+    End of contact: δ̇ falls monotonically from v0 to −e·v0 and 1 − c·e > 0 (the exact
+    relation of :func:`cor_hunt_crossley_family` requires c·e < 1), so the force stays
+    positive until δ = 0: the clip never acts in a single impact and the contact ends at
+    δ = 0.
 
     References
     ----------
@@ -534,8 +559,8 @@ def hertz_dashpot(delta, delta_dot, zeta, K, m_eff, stiffness="tangent"):
 
     Self-similarity: with :math:`\delta = \delta^* x`, :math:`t = (\delta^*/v_0)\tau`,
     :math:`\delta^* = (m^* v_0^2/K)^{2/5}` the equation of motion becomes
-    :math:`x'' = -x^{3/2} - 2\zeta\sqrt{k/K\sqrt{\delta}}\,x^{1/4}x'`: no v0, K or m* is
-    left, so the coefficient of restitution is a function of ζ alone
+    :math:`x'' = -x^{3/2} - 2\zeta\sqrt{\kappa}\,x^{1/4}x'` (κ = k/(K√δ) = 3/2 tangent,
+    1 secant): no v0, K or m* is left, so the coefficient of restitution is a function of ζ alone
     (:func:`cor_hertz_dashpot`) and does not change with impact speed.
 
     End of contact: the force is clipped at zero (no adhesion). During restitution the
@@ -793,7 +818,7 @@ _TABLE_P = (1e-4, 1e4, 161)
 
 
 def _solve_cor_table(shape):
-    """Solve e(p) at the table nodes (the script behind the tables stored below, ~2 s).
+    """Solve e(p) at the table nodes (the script behind the tables stored below, ~3 s).
 
     Regenerate with ``python -c "from pipeline.contact import _print_cor_tables as f; f()"``.
     """
@@ -821,20 +846,21 @@ def _table_spline(shape):
     if e.shape != s.shape or not np.all(np.diff(u) > 0):
         raise RuntimeError(f"corrupt COR table for {shape!r}")  # pragma: no cover
     spline = CubicSpline(s, u)
-    return s, u, spline, spline.derivative(), float(spline(s[-1], 1))
+    # heavy damping: e falls as a power of p (1/η² for the dashpot, γ^(−5/3) viscoelastic);
+    # extrapolate ln e linearly in ln p with the end slope q = d ln e/d ln p
+    q_hi = float(-np.exp(u[-1]) * spline(s[-1], 1))
+    return s, u, spline, spline.derivative(), q_hi
 
 
 def _table_cor(shape, p):
     p = np.asarray(p, dtype=float)
-    s_n, u_n, spl, _, slope_hi = _table_spline(shape)
+    s_n, u_n, spl, _, q_hi = _table_spline(shape)
     with np.errstate(divide="ignore"):
         s = np.log(p)
-    u = np.where(
-        s < s_n[0],
-        u_n[0] + (s - s_n[0]),  # weak damping: −ln e ∝ p
-        np.where(s > s_n[-1], u_n[-1] + slope_hi * (s - s_n[-1]), spl(np.clip(s, s_n[0], s_n[-1]))),
-    )
-    return np.where(p > 0, np.exp(-np.exp(u)), 1.0)
+    # weak damping (below the first node): −ln e ∝ p, i.e. u = ln(−ln e) has slope 1
+    u = np.where(s < s_n[0], u_n[0] + (s - s_n[0]), spl(np.clip(s, s_n[0], s_n[-1])))
+    ln_e = np.where(s > s_n[-1], -np.exp(u_n[-1]) + q_hi * (s - s_n[-1]), -np.exp(u))
+    return np.where(p > 0, np.exp(ln_e), 1.0)
 
 
 def _table_calibrate(shape, e, label):
@@ -844,14 +870,15 @@ def _table_calibrate(shape, e, label):
             f"{label} reaches every e in the range (0, 1] (e → 0 only as the damping → ∞); "
             f"got e = {e!r}"
         )
-    s_n, u_n, spl, dspl, slope_hi = _table_spline(shape)
+    s_n, u_n, spl, dspl, q_hi = _table_spline(shape)
     with np.errstate(divide="ignore"):
-        ut = np.log(-np.log(e_arr))
+        ln_e = np.log(e_arr)
+        ut = np.log(-ln_e)
     inside = (ut >= u_n[0]) & (ut <= u_n[-1])
     s = np.where(
         ut < u_n[0],
         s_n[0] + (ut - u_n[0]),
-        np.where(ut > u_n[-1], s_n[-1] + (ut - u_n[-1]) / slope_hi, np.interp(ut, u_n, s_n)),
+        np.where(ut > u_n[-1], s_n[-1] + (ln_e + np.exp(u_n[-1])) / q_hi, np.interp(ut, u_n, s_n)),
     )
     for _ in range(6):  # Newton on the spline itself: cor(calibrate(e)) == e to ~1e-14
         sc = np.clip(s, s_n[0], s_n[-1])
