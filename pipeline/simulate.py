@@ -132,6 +132,24 @@ class _Problem:
     m2: float
     kappa2: float
     R2: float
+    hc_c: float | None = None  # c of a Hertz / Hunt–Crossley-family law (fast scalar path)
+
+    def fs(self, x, u):
+        """Dimensionless normal force for scalars (float)."""
+        if x <= 0:
+            return 0.0
+        if self.hc_c is not None:
+            return max(self.kel * x * math.sqrt(x) * (1.0 + self.hc_c * u), 0.0)
+        return float(self.fn(x, u))
+
+    def fs_rate(self, x, u):
+        """d(fn)/dτ along the trajectory for scalars (central difference, δτ = 1e-7)."""
+        h = 1e-7
+        f = self.fs(x, u)
+        return (self.fs(x + h * u, u - h * f) - self.fs(x - h * u, u + h * f)) / (2 * h)
+
+    def kts(self, x):
+        return self.kt_coef * math.sqrt(x) if x > 0 else 0.0
 
     def fn(self, x, u):
         """Dimensionless normal force, zero out of contact."""
@@ -140,12 +158,6 @@ class _Problem:
             x * self.dstar, np.asarray(u) * self.v0, self.param, self.K, self.m_eff, self.v0
         )
         return np.where(x > 0, f / self.fscale, 0.0)
-
-    def fn_rate(self, x, u):
-        """d(fn)/dτ along the trajectory (central difference, δτ = 1e-7)."""
-        h = 1e-7
-        f = self.fn(x, u)
-        return (self.fn(x + h * u, u - h * f) - self.fn(x - h * u, u + h * f)) / (2 * h)
 
     def kt(self, x):
         return self.kt_coef * np.sqrt(np.maximum(x, 0.0))
@@ -239,7 +251,16 @@ def _setup(scene: Scene, normal, alpha=None, param=None, target_kappa=None) -> _
         m2=m2,
         kappa2=k2,
         R2=R2,
+        hc_c=_hc_c(law, p),
     )
+
+
+def _hc_c(law, p):
+    if law.name == "hertz":
+        return 0.0
+    if law.name in _SELF_SIMILAR and np.size(p) == 1:
+        return float(np.asarray(p, dtype=float).ravel()[0])
+    return None
 
 
 def tangential_needs_G(scene):
@@ -259,14 +280,14 @@ def _make_rhs(pb: _Problem, tangential, history, mode):
 
     def rhs(tau, y):
         x, u, p, z = y[0], y[1], y[2], y[3]
-        fn = float(pb.fn(x, u))
+        fn = pb.fs(x, u)
         fel = pb.kel * max(x, 0.0) ** 1.5
         s = pb.s0 - pb.lam * p
         dz = 0.0
         if kind == "slide":
             ft = sig * pb.mu * fn
         elif kind == "stick" and tangential == "mindlin":
-            k = float(pb.kt(x))
+            k = pb.kts(x)
             if history == "total":
                 ft = k * z
                 dz = s
@@ -295,7 +316,7 @@ def _events(pb: _Problem, tangential, history, mode):
         return y[0]
 
     def sep_f(tau, y):
-        return float(pb.fn(y[0], y[1])) - _F_END if y[1] < 0 else 1.0
+        return pb.fs(y[0], y[1]) - _F_END if y[1] < 0 else 1.0
 
     sep_x.terminal = sep_f.terminal = True
     sep_x.direction = sep_f.direction = -1
@@ -319,8 +340,10 @@ def _events(pb: _Problem, tangential, history, mode):
 
         def cap(tau, y):
             x, u, z = y[0], y[1], y[3]
-            ft = float(pb.kt(x)) * z if history == "total" else z
-            return pb.mu * float(pb.fn(x, u)) - abs(ft)
+            if x <= 0:  # past separation: keep the sign, so a real crossing is found
+                return -1.0
+            ft = pb.kts(x) * z if history == "total" else z
+            return pb.mu * pb.fs(x, u) - abs(ft)
 
         cap.terminal = True
         cap.direction = -1
@@ -333,8 +356,8 @@ def _events(pb: _Problem, tangential, history, mode):
             if x <= 0:
                 return 1.0
             s = pb.s0 - pb.lam * p
-            fn = float(pb.fn(x, u))
-            rate = sig * float(pb.kt(x)) * s - pb.mu * float(pb.fn_rate(x, u))
+            fn = pb.fs(x, u)
+            rate = sig * pb.kts(x) * s - pb.mu * pb.fs_rate(x, u)
             if history == "total":
                 rate += 0.5 * u / x * pb.mu * fn
             return rate
@@ -352,8 +375,8 @@ def _initial_mode(pb: _Problem, tangential, history):
         return ("slide", 1.0)
     # Mindlin: does the spring force stay under the cap as t → 0+? (δ ≈ v0 t)
     tau = 1e-8
-    fn = float(pb.fn(tau, 1.0))
-    k = float(pb.kt(tau))
+    fn = pb.fs(tau, 1.0)
+    k = pb.kts(tau)
     trial = k * pb.s0 * tau if history == "total" else 2.0 / 3.0 * k * pb.s0 * tau
     return ("stick",) if trial < pb.mu * fn else ("slide", 1.0)
 
@@ -400,13 +423,13 @@ def _solve(pb: _Problem, tangential, history, rtol, atol, method):
             mode = ("stick",)
         elif kind == "stick":  # spring reached the cap: slide in the direction of Ft
             x, z = y[0], y[3]
-            ft = float(pb.kt(x)) * z if history == "total" else z
+            ft = pb.kts(x) * z if history == "total" else z
             mode = ("slide", 1.0 if ft >= 0 else -1.0)
         else:  # leave the cap: stick with the spring exactly at the cap
             sig = mode[1]
-            fn = float(pb.fn(y[0], y[1]))
+            fn = pb.fs(y[0], y[1])
             cap = sig * pb.mu * fn
-            y[3] = cap / float(pb.kt(y[0])) if history == "total" else cap
+            y[3] = cap / pb.kts(y[0]) if history == "total" else cap
             mode = ("stick",)
     raise RuntimeError(
         f"more than {_MAX_SEGMENTS} stick/slide switches; loosen the tolerance or check the scene"
