@@ -69,6 +69,7 @@ from numpy.polynomial import legendre as L
 from scipy import interpolate, linalg, special
 
 from .errors import InputError, PoorFitWarning
+from .window import _json_ready
 
 __all__ = [
     "PolyFit",
@@ -258,23 +259,25 @@ class PolyFit:
         return np.sqrt(np.maximum(var, 0.0)).reshape(np.shape(t))
 
     def summary(self) -> dict:
-        """JSON-ready dict (units in key names)."""
-        return {
-            "model": "polynomial (Legendre basis on the scaled window)",
-            "degree": self.degree,
-            "end_constraints": self.end_constraints,
-            "t_start_s": self.t_start,
-            "t_end_s": self.t_end,
-            "coef_N": self.coef.tolist(),
-            "coef_stderr_N": np.sqrt(np.maximum(np.diag(self.cov), 0.0)).tolist(),
-            "n": self.n,
-            "dof": self.dof,
-            "rms_N": self.rms,
-            "sigma_N": self.sigma,
-            "r2": self.r2,
-            "runs_z": self.runs_z,
-            "poor": self.poor,
-        }
+        """JSON-ready dict (units in key names; NaN → None)."""
+        return _json_ready(
+            {
+                "model": "polynomial (Legendre basis on the scaled window)",
+                "degree": self.degree,
+                "end_constraints": self.end_constraints,
+                "t_start_s": self.t_start,
+                "t_end_s": self.t_end,
+                "coef_N": self.coef.tolist(),
+                "coef_stderr_N": np.sqrt(np.maximum(np.diag(self.cov), 0.0)).tolist(),
+                "n": self.n,
+                "dof": self.dof,
+                "rms_N": self.rms,
+                "sigma_N": self.sigma,
+                "r2": self.r2,
+                "runs_z": self.runs_z,
+                "poor": self.poor,
+            }
+        )
 
 
 @dataclass(frozen=True, eq=False)
@@ -554,14 +557,17 @@ class SplineFit:
         return (anti(_scale(t, self.t_start, self.t_end)) - anti(-1.0)) * half
 
     def summary(self) -> dict:
-        return {
-            "model": "cubic smoothing spline (GCV)" if self.lam is None else "smoothing spline",
-            "t_start_s": self.t_start,
-            "t_end_s": self.t_end,
-            "n": self.n,
-            "rms_N": self.rms,
-            "r2": self.r2,
-        }
+        """JSON-ready dict (units in key names; NaN → None)."""
+        return _json_ready(
+            {
+                "model": "cubic smoothing spline (GCV)" if self.lam is None else "smoothing spline",
+                "t_start_s": self.t_start,
+                "t_end_s": self.t_end,
+                "n": self.n,
+                "rms_N": self.rms,
+                "r2": self.r2,
+            }
+        )
 
 
 def fit_spline(

@@ -74,6 +74,7 @@ from scipy import integrate, optimize
 
 from .errors import InputError, PipelineWarning
 from .record import channel
+from .window import _json_ready
 
 __all__ = [
     "Percussions",
@@ -303,17 +304,19 @@ class Percussions:
         )
 
     def summary(self) -> dict:
-        """JSON-ready dict (units in key names)."""
-        return {
-            "t_start_s": self.t_start,
-            "t_end_s": self.t_end,
-            "Pn_total_Ns": {s: float(self.Pn(s)[-1]) for s in SOURCES},
-            "Pt_total_Ns": (
-                None if self.Pt_fit is None else {s: float(self.Pt(s)[-1]) for s in SOURCES}
-            ),
-            "disagreement_n_Ns": self.disagreement_n,
-            "disagreement_t_Ns": self.disagreement_t,
-        }
+        """JSON-ready dict (units in key names; NaN → None)."""
+        return _json_ready(
+            {
+                "t_start_s": self.t_start,
+                "t_end_s": self.t_end,
+                "Pn_total_Ns": {s: float(self.Pn(s)[-1]) for s in SOURCES},
+                "Pt_total_Ns": (
+                    None if self.Pt_fit is None else {s: float(self.Pt(s)[-1]) for s in SOURCES}
+                ),
+                "disagreement_n_Ns": self.disagreement_n,
+                "disagreement_t_Ns": self.disagreement_t,
+            }
+        )
 
 
 def _check_source(source):
@@ -447,24 +450,26 @@ class CompressionSplit:
     W_r: float
 
     def summary(self) -> dict:
-        """JSON-ready dict (units in key names)."""
-        return {
-            "t_c_s": self.t_c,
-            "Pn_c_Ns": self.Pn_c,
-            "Pn_f_Ns": self.Pn_f,
-            "Pt_c_Ns": self.Pt_c,
-            "Pt_f_Ns": self.Pt_f,
-            "method": self.method,
-            "source": self.source,
-            "m_kg": self.m,
-            "v_n0_m_per_s": self.v_n0,
-            "v_n0_given": self.v_n0_given,
-            "e_poisson": self.e_poisson,
-            "e_newton": self.e_newton,
-            "e_energetic": self.e_energetic,
-            "W_c_J": self.W_c,
-            "W_r_J": self.W_r,
-        }
+        """JSON-ready dict (units in key names; NaN → None)."""
+        return _json_ready(
+            {
+                "t_c_s": self.t_c,
+                "Pn_c_Ns": self.Pn_c,
+                "Pn_f_Ns": self.Pn_f,
+                "Pt_c_Ns": self.Pt_c,
+                "Pt_f_Ns": self.Pt_f,
+                "method": self.method,
+                "source": self.source,
+                "m_kg": self.m,
+                "v_n0_m_per_s": self.v_n0,
+                "v_n0_given": self.v_n0_given,
+                "e_poisson": self.e_poisson,
+                "e_newton": self.e_newton,
+                "e_energetic": self.e_energetic,
+                "W_c_J": self.W_c,
+                "W_r_J": self.W_r,
+            }
+        )
 
 
 def _mean_percussion(perc: Percussions, source: str) -> float:

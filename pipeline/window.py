@@ -68,6 +68,21 @@ __all__ = [
 _MAD_TO_SIGMA = 1.0 / special.ndtri(0.75)
 
 
+def _json_ready(obj):
+    """Plain-Python copy of ``obj`` for json: NaN/inf → None, numpy → float/int/list."""
+    if isinstance(obj, dict):
+        return {str(k): _json_ready(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple, np.ndarray)):
+        return [_json_ready(v) for v in obj]
+    if isinstance(obj, (bool, np.bool_)):
+        return bool(obj)
+    if isinstance(obj, (int, np.integer)):
+        return int(obj)
+    if isinstance(obj, (float, np.floating)):
+        return float(obj) if np.isfinite(obj) else None
+    return obj
+
+
 def mad_sigma(r) -> float:
     """Robust noise level: 1.4826·median|r − median r| [same unit as ``r``]."""
     r = np.asarray(r, dtype=float)
@@ -147,21 +162,23 @@ class ContactWindow:
         return self.t_end - self.t_start
 
     def summary(self) -> dict:
-        """JSON-ready dict of the window's numbers (units in the key names)."""
-        return {
-            "kind": self.kind,
-            "t_start_s": self.t_start,
-            "t_end_s": self.t_end,
-            "duration_s": self.duration,
-            "n_samples": self.n_samples,
-            "threshold_sigma": self.threshold,
-            "peak_N": self.peak,
-            "noise_N": dict(self.noise),
-            "baseline": {
-                k: {"offset_N": b.offset, "slope_N_per_s": b.slope, "t_ref_s": b.t_ref}
-                for k, b in self.baseline.items()
-            },
-        }
+        """JSON-ready dict of the window's numbers (units in the key names; NaN → None)."""
+        return _json_ready(
+            {
+                "kind": self.kind,
+                "t_start_s": self.t_start,
+                "t_end_s": self.t_end,
+                "duration_s": self.duration,
+                "n_samples": self.n_samples,
+                "threshold_sigma": self.threshold,
+                "peak_N": self.peak,
+                "noise_N": dict(self.noise),
+                "baseline": {
+                    k: {"offset_N": b.offset, "slope_N_per_s": b.slope, "t_ref_s": b.t_ref}
+                    for k, b in self.baseline.items()
+                },
+            }
+        )
 
 
 def apply_window(record: xr.Dataset, window: ContactWindow) -> xr.Dataset:

@@ -241,3 +241,17 @@ def test_digitised_channels_on_their_own_instants():
     s = compression_split(p, SCENE)
     assert s.e_poisson == pytest.approx(1.0, abs=3e-3)
     assert s.Pt_c == pytest.approx(MU * MV, rel=3e-3)
+
+
+def test_summaries_are_strict_json():
+    import json
+
+    w = find_contact(hertz_record())  # simulated: noise not estimated (NaN)
+    fits = fitted(w, method="polynomial", degree=6, end_constraints=True)
+    p = percussions(w, fits)
+    s = compression_split(p)  # no mass, no speed: e_newton NaN
+    for part in (w.summary(), fits.Fn.summary(), p.summary(), s.summary()):
+        json.dumps(part, allow_nan=False)  # NaN would raise ValueError
+    assert s.summary()["e_newton"] is None
+    assert w.summary()["noise_N"]["Fn"] is None
+    assert s.summary()["method"] == "closure"
