@@ -293,10 +293,11 @@ def _phi_reduced(x):
     xs = np.where(small, x, 0.0)
     s = np.zeros_like(xs)
     ds = np.zeros_like(xs)
-    for k in range(_PHI_TERMS + 1, 1, -1):  # Horner, highest power first
-        s = s * xs + 1.0 / k
-    for k in range(_PHI_TERMS + 1, 2, -1):
-        ds = ds * xs + (k - 2.0) / k
+    if np.any(small):
+        for k in range(_PHI_TERMS + 1, 1, -1):  # Horner, highest power first
+            s = s * xs + 1.0 / k
+        for k in range(_PHI_TERMS + 1, 2, -1):
+            ds = ds * xs + (k - 2.0) / k
     xl = np.where(small, 0.5, x)
     big = -np.log1p(-xl) - xl
     big_x2 = big / xl / xl
@@ -325,10 +326,10 @@ def _newton_increasing(fun, x0, lo, hi, rtol=2e-16, maxiter=200):
         ha = np.where(f > 0, xa, ha)
         with np.errstate(divide="ignore", invalid="ignore"):
             xn = xa - f / df
-        bad = ~((xn > la) & (xn < ha))
-        xn = np.where(bad, 0.5 * (la + ha), xn)
-        xn = np.where(zero, xa, xn)
-        done = zero | (np.abs(xn - xa) <= rtol * np.abs(xn)) | (ha - la <= rtol * np.abs(ha))
+        converged = zero | (np.abs(xn - xa) <= rtol * np.abs(xa))  # step below resolution
+        bad = ~((xn > la) & (xn < ha)) & ~converged
+        xn = np.where(bad, 0.5 * (la + ha), np.where(converged, xa, xn))
+        done = converged | (ha - la <= rtol * np.abs(ha))
         x[idx], lo[idx], hi[idx] = xn, la, ha
         active[idx] = ~done
     return x
