@@ -173,7 +173,9 @@ def restitution_energetic(Pn_f, m, v_n0):
 
 
 # ------------------------------------------------------------------ percussions
-def cumulative_percussion(t, F, *, method: str = "trapezoid", t_start=None, t_end=None):
+def cumulative_percussion(
+    t, F, *, method: str = "trapezoid", t_start=None, t_end=None
+) -> xr.DataArray:
     """Running impulse of raw force samples [N·s], zero at the first instant returned.
 
     Parameters
@@ -191,10 +193,9 @@ def cumulative_percussion(t, F, *, method: str = "trapezoid", t_start=None, t_en
 
     Returns
     -------
-    t_out : numpy.ndarray
-        The instants [s] (with the padded ends).
-    P : numpy.ndarray
-        ∫_{t_out[0]}^{t} F dt' at ``t_out`` [N·s].
+    xarray.DataArray
+        ∫ F dt' from the first instant [N·s] (``attrs["units"] = "N s"``) on the coordinate
+        ``time`` [s]: the samples plus any padded ends.
     """
     t = np.asarray(t, dtype=float)
     F = np.asarray(F, dtype=float)
@@ -208,7 +209,13 @@ def cumulative_percussion(t, F, *, method: str = "trapezoid", t_start=None, t_en
             P = integrate.cumulative_simpson(F, x=t, initial=0.0)
     else:
         raise InputError(f"integration method {method!r} is unknown; use 'trapezoid' or 'simpson'")
-    return t, P
+    return xr.DataArray(
+        P,
+        coords={"time": ("time", t, {"units": "s"})},
+        dims="time",
+        name="P",
+        attrs={"units": "N s", "long_name": f"percussion ({method})"},
+    )
 
 
 def _pad(t, F, t_start, t_end):
@@ -326,7 +333,8 @@ def _check_source(source):
 
 
 def _raw_on_grid(t, F, grid, t_start, t_end, method):
-    tc, P = cumulative_percussion(t, F, method=method, t_start=t_start, t_end=t_end)
+    cum = cumulative_percussion(t, F, method=method, t_start=t_start, t_end=t_end)
+    tc, P = cum["time"].values, cum.values
     if tc.size == grid.size and np.array_equal(tc, grid):
         return P
     # digitised channels: their own points differ from the grid (linear between points,

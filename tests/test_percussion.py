@@ -206,12 +206,14 @@ def test_cumulative_percussion_pads_zero_ends_and_integrates_exactly():
     # F = 6·(t − 1)(2 − t) on [1, 2] s: ∫ = 1 N·s; Simpson is exact for a parabola
     t = np.linspace(1.0, 2.0, 11)[1:-1]
     F = 6.0 * (t - 1.0) * (2.0 - t)
-    tp, P = cumulative_percussion(t, F, method="simpson", t_start=1.0, t_end=2.0)
+    cum = cumulative_percussion(t, F, method="simpson", t_start=1.0, t_end=2.0)
+    tp, P = cum["time"].values, cum.values
+    assert cum.attrs["units"] == "N s"
     assert tp[0] == 1.0 and tp[-1] == 2.0
     assert P[-1] == pytest.approx(1.0, rel=1e-12)
     exact = 3.0 * (tp - 1.0) ** 2 - 2.0 * (tp - 1.0) ** 3
     np.testing.assert_allclose(P, exact, atol=1e-12)
-    tp, P = cumulative_percussion(t, F, method="trapezoid", t_start=1.0, t_end=2.0)
+    P = cumulative_percussion(t, F, method="trapezoid", t_start=1.0, t_end=2.0).values
     assert P[-1] == pytest.approx(1.0 - 1.0 / 100.0, rel=1e-12)  # trapezoid error h²/12·∫F''
 
 
