@@ -340,3 +340,61 @@ def test_array_scene_is_refused_by_single_path():
 def test_default_normal_law():
     assert impact(al_oxide(e=1.0), tangential="none").attrs["normal_model"] == "hertz"
     assert impact(al_oxide(e=0.9), tangential="none").attrs["normal_model"] == "hunt_crossley"
+
+
+def test_batch_agrees_with_single_impact_for_every_registered_law():
+    """The stated error of impact_outcomes for the laws that are not smooth at first
+    contact (δ^1/4 damping): |Δe_n|, |Δe_t| < 1e-4, relative F_max, t_contact < 5e-4."""
+    angles = np.array([5.0, 15.0, 45.0])
+    for law in DAMPED_LAWS:
+        for e in (0.3, 0.9):
+            try:
+                contact.NORMAL_LAWS[law].calibrate(e)
+            except InputError:
+                continue
+            sc = al_oxide(angle=angles, e=e)
+            out = impact_outcomes(sc, normal=law, tangential="mindlin")
+            for i, a in enumerate(angles):
+                ref = impact(sc.replace(angle_deg=a), normal=law, samples=101).attrs
+                assert out.e_n[i] == pytest.approx(ref["e_n"], abs=1e-4), (law, e, a)
+                assert out.e_t[i] == pytest.approx(ref["e_t"], abs=1e-4), (law, e, a)
+                assert out.F_max[i] == pytest.approx(ref["F_max"], rel=5e-4), (law, e, a)
+                assert out.t_contact[i] == pytest.approx(ref["t_contact"], rel=5e-4), (law, e)
+
+
+# ------------------------------------------------------------------ Mindlin update rules
+def test_mindlin_total_rule_rescales_onto_the_cap():
+    """Total-displacement rule (LAMMPS mindlin): Ft = k_t·ξ with k_t = 8·G*·√(R*·δ)
+    (Mindlin 1949); beyond μ·Fn, ξ is rescaled to ±μ·Fn/k_t."""
+    G, R, delta, Fn, mu = 30e9, 1e-3, 1e-6, 100.0, 0.2
+    k = 8.0 * G * math.sqrt(R * delta)  # 7.59e6 N/m
+    st = contact.mindlin_total(0.0, 1e-7, delta, Fn, mu, G, R)  # below the cap
+    assert st.Ft == pytest.approx(k * 1e-7) and not st.sliding
+    assert st.xi == pytest.approx(1e-7)
+    st = contact.mindlin_total(1e-7, -5e-6, delta, Fn, mu, G, R)  # far beyond, negative
+    assert st.Ft == pytest.approx(-mu * Fn) and st.sliding
+    assert st.xi == pytest.approx(-mu * Fn / k)
+    # unloading at fixed ξ: the force follows k_t(δ) down (the rule's defining property)
+    st = contact.mindlin_total(1e-7, 0.0, delta / 4.0, Fn, mu, G, R)
+    assert st.Ft == pytest.approx(k / 2.0 * 1e-7)
+    # out of contact: no force, history erased
+    st = contact.mindlin_total(1e-7, 1e-7, 0.0, 0.0, mu, G, R)
+    assert st.Ft == 0.0 and st.xi == 0.0
+
+
+def test_mindlin_incremental_rule_keeps_force_on_unloading():
+    """Incremental rule (YADE MindlinPhys): dFt = k_t·dξ, clipped to ±μ·Fn; a stuck contact
+    keeps its force as δ falls until the cap clips it."""
+    G, R, delta, Fn, mu = 30e9, 1e-3, 1e-6, 100.0, 0.2
+    k = 8.0 * G * math.sqrt(R * delta)
+    st = contact.mindlin_incremental(5.0, 1e-7, delta, Fn, mu, G, R)
+    assert st.Ft == pytest.approx(5.0 + k * 1e-7) and not st.sliding
+    st = contact.mindlin_incremental(5.0, 0.0, delta / 4.0, Fn, mu, G, R)
+    assert st.Ft == pytest.approx(5.0)
+    st = contact.mindlin_incremental(5.0, 0.0, delta / 4.0, 10.0, mu, G, R)  # cap 2 N
+    assert st.Ft == pytest.approx(2.0) and st.sliding
+    a = contact.mindlin_incremental(
+        np.array([0.0, 19.0]), np.array([1e-9, 1e-5]), delta, Fn, mu, G, R
+    )
+    np.testing.assert_allclose(a.Ft, [k * 1e-9, 20.0])
+    assert a.sliding.tolist() == [False, True]
