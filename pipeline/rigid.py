@@ -547,6 +547,11 @@ def planar_impact(W, v_t0, v_n0, mu, e, law="poisson") -> PlanarImpact:
         Pn_s = np.where((vt > 0) & (g < 0), vt / np.where(g < 0, -g, 1.0), np.inf)
     Pn_s = np.where((vt == 0) & stick_ok, 0.0, Pn_s)
     d1 = Wnn - Wnt * mu
+    # With d1 > 0 every law ends on segment 1 by Pn = 2·v_n0/d1 at the latest; a slip stop
+    # beyond that is never reached (and would only overflow the unused branches below).
+    with np.errstate(divide="ignore", invalid="ignore"):
+        beyond = (d1 > 0) & (Pn_s > 4.0 * v_n0 / np.where(d1 > 0, d1, 1.0))
+    Pn_s = np.where(beyond, np.inf, Pn_s)
     # --- segment 2: sticking or reverse sliding
     b2 = np.where(stick_ok, Wtn / Wtt, -mu)
     Pn_s_fin = np.where(np.isfinite(Pn_s), Pn_s, 0.0)

@@ -1,0 +1,562 @@
+r"""The seed paper's figures, redrawn from the pipeline's results (matplotlib).
+
+Every ``fig*`` function returns a :class:`matplotlib.figure.Figure` built without pyplot
+(no global state, no ``plt.show``, nothing printed); save it with :func:`save`, which
+writes atomically. All functions draw inside :func:`style`, the one place that sets fonts,
+line widths and sizes, so the figures of one report look alike. To add a figure:
+
+.. code-block:: python
+
+    def fig8_forces(record, fits) -> Figure:
+        with style():
+            fig, ax = new_figure(width=SINGLE)
+            ...
+            return fig
+
+Artists that tests (or a caller) need to find carry a ``gid`` (see each docstring), so a
+test can check the plotted data, e.g. ``[a for a in fig.findobj() if a.get_gid() == "kink"]``.
+
+Figures here:
+
+- :func:`fig4_percussion_plane` — seed Fig. 4: Routh's plane of percussions for a ball on
+  a tilted plane, lines LF, S, C, T, corner A, end points E1 (sliding) and E2 (sticking),
+  friction angles and the angle β of seed eq. 6.
+- :func:`fig6_disc_velocity` — analogue of seed Fig. 6: rigid-theory post-impact
+  horizontal velocity of a ball dropped on a rotating disc against the disc's surface
+  speed, with the kink u* between the sticking and sliding regimes.
+
+References
+----------
+F.-C. Ciornei et al., MATEC Web Conf. 112, 07005 (2017), doi:10.1051/matecconf/201711207005,
+Figs. 4 and 6. S. Alaci, F. C. Ciornei, C. Filote, J. Balkan Tribol. Assoc. 22(2), 1552 (2016)
+(the rotating-disc rig).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import tempfile
+from contextlib import contextmanager
+from pathlib import Path
+
+import matplotlib as mpl
+import numpy as np
+from matplotlib.figure import Figure
+from matplotlib.patches import Arc
+
+from .errors import InputError
+from .rigid import SphereOnPlane, sphere_on_plane
+from .scene import Scene
+
+__all__ = [
+    "STYLE",
+    "SINGLE",
+    "DOUBLE",
+    "COLORS",
+    "style",
+    "new_figure",
+    "save",
+    "panel_label",
+    "fig4_percussion_plane",
+    "fig6_disc_velocity",
+    "default_scenes",
+]
+
+#: Figure widths [inch]: one journal column and the full page width.
+SINGLE, DOUBLE = 3.5, 7.2
+
+#: Colours used across figures (colour-blind safe, Okabe–Ito).
+COLORS = {
+    "sliding": "#0072B2",  # blue
+    "sticking": "#D55E00",  # vermillion
+    "measured": "#000000",
+    "fit": "#009E73",  # green
+    "rigid": "#CC79A7",  # purple
+    "construction": "#7F7F7F",  # grey: auxiliary lines C, T, S
+    "accent": "#E69F00",  # orange
+}
+
+#: rcParams applied by :func:`style` (publication look: 8–9 pt text, thin frames).
+STYLE = {
+    "font.family": "serif",
+    "font.serif": ["DejaVu Serif"],
+    "mathtext.fontset": "dejavuserif",
+    "font.size": 9,
+    "axes.labelsize": 9,
+    "axes.titlesize": 9,
+    "legend.fontsize": 8,
+    "legend.frameon": False,
+    "xtick.labelsize": 8,
+    "ytick.labelsize": 8,
+    "xtick.direction": "in",
+    "ytick.direction": "in",
+    "xtick.top": False,
+    "ytick.right": False,
+    "axes.linewidth": 0.8,
+    "lines.linewidth": 1.4,
+    "lines.markersize": 5,
+    "axes.spines.top": False,
+    "axes.spines.right": False,
+    "savefig.dpi": 300,
+    "savefig.bbox": "tight",
+    "savefig.pad_inches": 0.03,
+    "figure.dpi": 150,
+}
+
+
+@contextmanager
+def style():
+    """Context manager applying :data:`STYLE` (restores the caller's rcParams after)."""
+    with mpl.rc_context(STYLE):
+        yield
+
+
+def new_figure(nrows=1, ncols=1, *, width=SINGLE, height=None, **subplots_kw):
+    """A constrained-layout :class:`Figure` and its axes, without pyplot.
+
+    Parameters
+    ----------
+    nrows, ncols : int — grid of axes
+    width : float — figure width [inch]; :data:`SINGLE` or :data:`DOUBLE`
+    height : float, optional — figure height [inch]; default width·0.8/ncols·nrows
+    **subplots_kw — passed to :meth:`Figure.subplots` (``sharey=``, ``gridspec_kw=``...)
+
+    Returns
+    -------
+    (Figure, Axes or ndarray of Axes)
+    """
+    if height is None:
+        height = width * 0.8 * nrows / ncols
+    fig = Figure(figsize=(width, height), layout="constrained")
+    axes = fig.subplots(nrows, ncols, squeeze=True, **subplots_kw)
+    return fig, axes
+
+
+def save(fig: Figure, path, **savefig_kw) -> Path:
+    """Write ``fig`` to ``path`` atomically (temporary file, then rename).
+
+    The format follows the suffix (``.png``, ``.pdf``, ``.svg``). Returns the path.
+    """
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}-", suffix=path.suffix, dir=path.parent)
+    os.close(fd)
+    try:
+        with style():
+            fig.savefig(tmp, format=path.suffix.lstrip(".") or None, **savefig_kw)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+    return path
+
+
+def panel_label(ax, text, *, x=-0.02, y=1.02):
+    """Bold panel tag such as ``(a)`` at the upper left, outside the axes."""
+    ax.text(x, y, text, transform=ax.transAxes, ha="right", va="bottom", fontweight="bold")
+
+
+def default_scenes() -> dict:
+    """The illustrative scenes the figures use when none is given.
+
+    A 25.4 mm steel ball (67 g, PHYSICS.md §5 size) at 1 m/s, e = 0.5, on a plane tilted
+    65° (fig. 4; μ = 0.2 slides throughout, μ = 0.7 sticks in compression) and dropped on a
+    disc, e = 0.8, μ = 0.15 (fig. 6).
+    """
+    base = Scene(radius=0.0127, mass=0.067, speed=1.0)
+    return {
+        "fig4_sliding": base.replace(angle_deg=65.0, mu=0.2, e=0.5),
+        "fig4_sticking": base.replace(angle_deg=65.0, mu=0.7, e=0.5),
+        "fig6": base.replace(angle_deg=0.0, mu=0.15, e=0.8),
+    }
+
+
+# ------------------------------------------------------------------------- Fig. 4
+def _angle_arc(ax, angle, radius, label, color):
+    """Arc from the Pn axis (vertical) to a ray at ``angle`` [rad] clockwise from it,
+    labelled just past the ray's end of the arc (in data units; needs an equal aspect)."""
+    deg = math.degrees(angle)
+    ax.add_patch(
+        Arc((0, 0), 2 * radius, 2 * radius, theta1=90 - deg, theta2=90, color=color, lw=0.8)
+    )
+    a = math.radians(90 - deg) - 0.05
+    ax.text(
+        radius * math.cos(a),
+        radius * math.sin(a),
+        " " + label,
+        color=color,
+        ha="left",
+        va="center",
+        fontsize=8,
+    )
+
+
+def _kappa_text(kappa):
+    """κ/(1+κ) as a TeX fraction (2/7 for a solid sphere)."""
+    frac = kappa / (1 + kappa)
+    for den in range(1, 30):
+        num = frac * den
+        if abs(num - round(num)) < 1e-9:
+            return rf"\frac{{{round(num)}}}{{{den}}}"
+    return rf"{frac:.3g}"
+
+
+def _plane_limits(results):
+    """Axis limits (Pt_hi, Pn_hi) [N·s] that show the construction of every result."""
+    x_hi = max(2.0 * r.Pt_S if r.Pt_S > 0 else 2.0 * float(r.mu) * r.Pn_f for r in results)
+    y_hi = max(1.22 * r.Pn_f for r in results)
+    return max(x_hi, 1e-12), max(y_hi, 1e-12)
+
+
+def _draw_plane(ax, results, names, colors, limits=None):
+    """Draw S, C, T of ``results[0]`` and the LF line and path of each result."""
+    ref = results[0]
+    Pt_S, Pn_c, Pn_f = ref.Pt_S, ref.Pn_c, ref.Pn_f
+    x_hi, y_hi = _plane_limits(results) if limits is None else limits
+    grey = COLORS["construction"]
+
+    # construction lines C, T, S and the ray O-B (B = S ∩ T) at angle β
+    ax.plot([0, x_hi], [Pn_c, Pn_c], ls="--", lw=0.9, color=grey, gid="line-C")
+    ax.plot([0, x_hi], [Pn_f, Pn_f], ls="-", lw=0.9, color=grey, gid="line-T")
+    ax.plot([Pt_S, Pt_S], [0, y_hi], ls="-", lw=0.9, color=grey, gid="line-S")
+    ax.text(0.98 * x_hi, Pn_c, "(C)", va="bottom", ha="right", color=grey)
+    ax.text(0.98 * x_hi, Pn_f, "(T)", va="bottom", ha="right", color=grey)
+    ax.text(Pt_S, 0.985 * y_hi, " (S)", va="top", ha="left", color=grey)
+    ax.plot([0, Pt_S], [0, Pn_f], ls=":", lw=0.9, color=grey, gid="ray-beta")
+
+    arc_r = 0.42 * Pn_c
+    _angle_arc(ax, float(ref.beta), arc_r, r"$\beta$", grey)
+    for k, (res, name, col) in enumerate(zip(results, names, colors, strict=True)):
+        mu = float(res.mu)
+        tag = f"{k + 1}" if len(results) > 1 else ""
+        # LF: full ray (thin), the travelled part bold
+        Pn_end_ray = min(y_hi, x_hi / mu) if mu > 0 else y_hi
+        ax.plot([0, mu * Pn_end_ray], [0, Pn_end_ray], lw=0.7, color=col, alpha=0.6)
+        txt_n = 0.93 * Pn_end_ray
+        ax.text(
+            mu * txt_n,
+            txt_n,
+            rf"$_{{{tag}}}$LF  " if tag else "LF  ",
+            color=col,
+            ha="right",
+            va="center",
+        )
+        v = np.asarray(res.vertices)
+        ax.plot(v[:, 0], v[:, 1], lw=2.0, color=col, solid_joinstyle="miter", gid=f"path-{name}")
+        ax.plot(v[-1, 0], v[-1, 1], "o", color=col, ms=4.5, zorder=5)
+        if res.regime == "sliding":
+            ax.text(v[-1, 0], v[-1, 1], r"$E_1$ ", color=col, ha="right", va="bottom")
+        else:
+            ax.plot(v[1, 0], v[1, 1], "s", color=col, ms=4, zorder=5)
+            ax.text(v[1, 0], v[1, 1], "  A", color=col, ha="left", va="center")
+            ax.text(v[-1, 0], v[-1, 1], r"$E_2$  ", color=col, ha="right", va="bottom")
+        _angle_arc(
+            ax,
+            float(res.phi),
+            (1.5 if res.regime == "sliding" else 0.6) * arc_r,
+            rf"$\varphi_{{{tag}}}$" if tag else r"$\varphi$",
+            col,
+        )
+
+    # symbolic values of the lines on the opposite axes (as in the seed's Fig. 4)
+    kap = _kappa_text(float(ref.kappa))
+    top = ax.secondary_xaxis("top")
+    top.set_xticks([Pt_S], [rf"${kap}\,m v'\sin\alpha$"])
+    top.tick_params(direction="in", length=3)
+    right = ax.secondary_yaxis("right")
+    right.set_yticks([Pn_c, Pn_f], [r"$m v'\cos\alpha$", r"$(1+e)\,m v'\cos\alpha$"])
+    right.tick_params(direction="in", length=3)
+    for sec in (top, right):
+        sec.spines[:].set_visible(False)
+
+    ax.set_xlim(0, x_hi)
+    ax.set_ylim(0, y_hi)
+    ax.set_aspect("equal", adjustable="box")
+    ax.set_xlabel(r"tangential percussion $P_t$ [N$\cdot$s]")
+    ax.set_ylabel(r"normal percussion $P_n$ [N$\cdot$s]")
+    ax.spines[["top", "right"]].set_visible(False)
+
+
+def _sketch_ball_on_plane(ax, alpha):
+    """Small inset: ball falling with velocity v' on a plane tilted α from the horizontal,
+    with the contact axes t (down the slope) and n (outward normal)."""
+    ins = ax.inset_axes([0.56, 0.02, 0.44, 0.36])
+    ins.set_axis_off()
+    ins.set_aspect("equal")
+    ca, sa = math.cos(alpha), math.sin(alpha)
+    t = np.array([ca, -sa])  # down the slope (direction of the initial slip)
+    n = np.array([sa, ca])  # outward normal of the plane
+    c = np.array([0.0, 0.0])  # contact point
+    lo_end, hi_end = c + 1.1 * t, c - 1.4 * t
+    ins.plot(*np.stack([hi_end, lo_end]).T, color="black", lw=1.0)
+    for k in np.linspace(-1.35, 1.0, 9):  # hatching on the solid side
+        p = c + k * t
+        ins.plot(*np.stack([p, p - 0.16 * n + 0.1 * t]).T, color="black", lw=0.5)
+    R = 0.42
+    g = c + R * n
+    ins.add_patch(mpl.patches.Circle(g, R, fc="0.88", ec="black", lw=0.8))
+    kw = {"arrowstyle": "-|>", "lw": 0.8, "mutation_scale": 6, "shrinkA": 0, "shrinkB": 0}
+    top = g + np.array([0, R + 0.75])
+    ins.annotate("", g + np.array([0, R + 0.05]), top, arrowprops=dict(kw, color="black"))
+    ins.text(*(top + np.array([0.08, -0.3])), "$v'$", fontsize=7, ha="left", va="center")
+    ins.annotate("", c + 1.25 * n, c, arrowprops=dict(kw, color="0.4"))
+    ins.text(*(c + 1.3 * n), "$n$", fontsize=7, ha="left", va="bottom", color="0.3")
+    ins.annotate(
+        "", c + 1.0 * t + 0.12 * n, c + 0.35 * t + 0.12 * n, arrowprops=dict(kw, color="0.4")
+    )
+    ins.text(*(c + 1.0 * t + 0.2 * n), "$t$", fontsize=7, ha="left", va="bottom", color="0.3")
+    # the tilt α between the horizontal and the plane, at the lower end
+    ins.plot(*np.stack([lo_end, lo_end - np.array([0.9, 0.0])]).T, color="black", lw=0.6)
+    deg = math.degrees(alpha)
+    ins.add_patch(
+        mpl.patches.Arc(lo_end, 1.0, 1.0, theta1=180 - deg, theta2=180, color="0.3", lw=0.6)
+    )
+    mid = math.radians(180 - deg / 2)
+    ins.text(
+        *(lo_end + 0.62 * np.array([math.cos(mid), math.sin(mid)])),
+        r"$\alpha$",
+        fontsize=7,
+        ha="right",
+        va="center",
+    )
+    pts = np.stack([hi_end, lo_end, top, c + 1.3 * n, lo_end - np.array([0.9, 0.0])])
+    ins.set_xlim(pts[:, 0].min() - 0.2, pts[:, 0].max() + 0.3)
+    ins.set_ylim(pts[:, 1].min() - 0.2, pts[:, 1].max() + 0.2)
+    return ins
+
+
+def _same_construction(a: SphereOnPlane, b: SphereOnPlane):
+    return all(
+        math.isclose(float(getattr(a, k)), float(getattr(b, k)), rel_tol=1e-9)
+        for k in ("Pt_S", "Pn_c", "Pn_f")
+    )
+
+
+def fig4_percussion_plane(scene_sliding: Scene = None, scene_sticking: Scene = None) -> Figure:
+    """Seed Fig. 4: Routh's plane of percussions for a ball striking a tilted plane.
+
+    Parameters
+    ----------
+    scene_sliding : Scene, optional
+        A scalar scene in the sliding regime (μ ≤ tan β); drawn as 1LF → E1.
+    scene_sticking : Scene, optional
+        A scalar scene in the sticking regime; drawn as 2LF → A → E2 along S.
+        Defaults for both: :func:`default_scenes`.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One panel when both scenes share the lines S, C, T (they differ only in μ, as in
+        the seed's figure), otherwise two panels (a) sliding, (b) sticking. Pt is
+        horizontal, Pn vertical, both [N·s], equal scales so the angles are true: the
+        friction angles φ = atan μ and β (seed eq. 6) are measured from the Pn axis; the
+        dotted ray O–B (B = S ∩ T) at angle β separates the regimes. Artists with a
+        ``gid``: ``"path-sliding"``, ``"path-sticking"`` (the rigid broken lines, their
+        data equal :attr:`SphereOnPlane.vertices`), ``"line-C"``, ``"line-T"``,
+        ``"line-S"``, ``"ray-beta"``.
+
+    Raises
+    ------
+    InputError
+        If a scene is an array of scenes, or is not in the regime its argument names.
+    """
+    d = default_scenes()
+    scene_sliding = d["fig4_sliding"] if scene_sliding is None else scene_sliding
+    scene_sticking = d["fig4_sticking"] if scene_sticking is None else scene_sticking
+    results = []
+    for scene, want in ((scene_sliding, "sliding"), (scene_sticking, "sticking")):
+        res = sphere_on_plane(scene)
+        if np.ndim(res.Pn_f) != 0:
+            raise InputError("fig4_percussion_plane draws single scenes, not arrays of scenes")
+        if res.regime != want:
+            raise InputError(
+                f"fig4_percussion_plane: scene_{want} is in the {res.regime} regime "
+                f"(μ = {float(res.mu):.3g}, tan β = {math.tan(float(res.beta)):.3g}); "
+                f"{'lower' if want == 'sliding' else 'raise'} μ or change the angle"
+            )
+        results.append(res)
+    names = ("sliding", "sticking")
+    colors = (COLORS["sliding"], COLORS["sticking"])
+    with style():
+        if _same_construction(*results):
+            fig, ax = new_figure(width=SINGLE, height=4.0)
+            _draw_plane(ax, results, names, colors)
+            _sketch_ball_on_plane(ax, math.radians(float(scene_sliding.angle_deg)))
+        else:
+            fig, axes = new_figure(1, 2, width=DOUBLE, height=4.0)
+            scenes = (scene_sliding, scene_sticking)
+            for ax, res, scene, name, col, tag in zip(
+                axes, results, scenes, names, colors, ("(a)", "(b)"), strict=True
+            ):
+                _draw_plane(ax, [res], [name], [col], limits=_plane_limits(results))
+                _sketch_ball_on_plane(ax, math.radians(float(scene.angle_deg)))
+                panel_label(ax, tag, x=-0.12)
+        return fig
+
+
+# ------------------------------------------------------------------------- Fig. 6
+def disc_kinks(scene: Scene):
+    """Surface speeds u* [m/s] where a ball dropped on a moving surface changes regime.
+
+    Returns ``(u_minus, u_plus)`` with u± = ±U − ω0·R,
+    U = (1+κ)/κ·μ·(1+e)·v_n0·m*/m*  (= 3.5·μ·(1+e)·v for a solid sphere on a fixed disc):
+    the slip −u − ω0·R whose sticking line S meets T on the friction line LF.
+    """
+    kappa = float(scene.kappa)
+    U = (1 + kappa) / kappa * float(scene.mu) * (1 + float(scene.e)) * float(scene.v_n0)
+    s = float(scene.spin) * float(scene.radius)
+    return (-U - s, U - s)
+
+
+def fig6_disc_velocity(scene: Scene = None, surface_speeds=None) -> Figure:
+    """Analogue of seed Fig. 6: post-impact horizontal velocity of a ball dropped on a disc.
+
+    A ball falls vertically (``angle_deg = 0``) onto a horizontal disc whose surface moves
+    at speed u under the impact point. Relative to the surface the ball slips at
+    s0 = −u − ω0·R, i.e. the scene is ``scene.replace(surface_speed=u)`` and
+    :func:`~pipeline.rigid.sphere_on_plane` gives ``v_t``, the ball's tangential velocity
+    relative to the surface after impact. In the laboratory frame the ball leaves with
+
+    .. math::
+
+        v_x'' = v_t + u = \\frac{\\sigma_u P_t}{m} =
+        \\begin{cases} \\frac{\\kappa}{1+\\kappa}\\,\\frac{m^*}{m}\\,u
+                       & |u| \\le u^* \\text{ (sticks: leaves rolling)} \\\\
+                       \\operatorname{sign}(u)\\,\\mu(1+e)\\,\\frac{m^*}{m}\\,v' & |u| \\ge u^*
+                       \\text{ (slides throughout)} \\end{cases}
+
+    (no initial spin; positive along the surface's motion) with the kink at
+    u* = (1+κ)/κ·μ(1+e)·v' = 3.5·μ(1+e)·v' for a solid sphere. Rigid theory thus predicts
+    a linear rise and then a plateau; the seed's measured run-out distance falls beyond
+    the kink instead.
+
+    Parameters
+    ----------
+    scene : Scene, optional
+        Ball, drop speed ``speed`` [m/s], ``mu``, ``e``, ``kappa``, ``spin``; a scalar
+        scene with ``angle_deg == 0`` (its ``surface_speed`` is ignored). Default:
+        :func:`default_scenes` ``["fig6"]``.
+    surface_speeds : array_like, optional
+        Disc surface speeds u [m/s] to plot; default 0 … 2.5·u* (201 points). The kink
+        points u* inside the range are inserted so the polyline shows the corner exactly.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Artists with a ``gid``: ``"v-x"`` (the curve: x = u [m/s], y = v_x'' [m/s]),
+        ``"kink"`` (marker(s) at (u*, v_x''(u*))).
+
+    Raises
+    ------
+    InputError
+        For an array scene or a non-zero ``angle_deg``.
+    """
+    scene = default_scenes()["fig6"] if scene is None else scene
+    if np.ndim(scene.speed) or any(np.ndim(getattr(scene, f)) for f in Scene.field_names()):
+        raise InputError("fig6_disc_velocity takes a single scene, not an array of scenes")
+    if float(scene.angle_deg) != 0.0:
+        raise InputError(
+            "fig6_disc_velocity: the disc rig drops the ball vertically; give angle_deg = 0 "
+            f"(got {scene.angle_deg} deg)"
+        )
+    kinks = disc_kinks(scene)
+    if surface_speeds is None:
+        hi = 2.5 * max(abs(kinks[1]), 1e-3)
+        surface_speeds = np.linspace(0.0, hi, 201)
+    u = np.asarray(surface_speeds, dtype=float).ravel()
+    if u.size < 2 or not np.all(np.isfinite(u)):
+        raise InputError("fig6_disc_velocity needs at least two finite surface speeds [m/s]")
+    lo, hi = u.min(), u.max()
+    inside = [k for k in kinks if lo < k < hi and float(scene.mu) > 0]
+    u = np.unique(np.concatenate([u, inside]))
+    res = sphere_on_plane(scene.replace(surface_speed=u))
+    vx = np.asarray(res.v_t) + u  # laboratory frame: relative velocity + surface speed
+    stick = np.asarray(res.regime) == "sticking"
+    kap = float(scene.kappa)
+    m_ratio = float(np.asarray(res.m_eff).flat[0]) / float(scene.m)
+    shift = float(scene.spin) * float(scene.radius)
+    U = (1 + kap) / kap * float(scene.mu) * (1 + float(scene.e)) * float(scene.v_n0)
+    plateau = kap / (1 + kap) * m_ratio * U  # = μ(1+e)·(m*/m)·v'
+    vx_k = np.array([float(np.asarray(vx)[np.searchsorted(u, k)]) for k in inside], dtype=float)
+
+    with style():
+        fig, ax = new_figure(width=SINGLE, height=2.7)
+        grey = COLORS["construction"]
+        span = hi - lo
+        if inside:  # shade the sticking band between the kinks (or a kink and the edge)
+            band_lo = min(inside) if (len(inside) == 2 or inside[0] < -shift) else lo
+            band_hi = max(inside) if (len(inside) == 2 or inside[0] > -shift) else hi
+            ax.axvspan(band_lo, band_hi, color=COLORS["sticking"], alpha=0.08, lw=0)
+        ax.plot(u, vx, color="black", lw=1.6, gid="v-x", zorder=3)
+        dash = {"ls": (0, (4, 3)), "lw": 0.8, "color": grey, "zorder": 2}
+        for uk, vk in zip(inside, vx_k, strict=True):
+            side = 1.0 if uk > -shift else -1.0
+            # each branch continued a little past the kink, to show the corner
+            ue = np.array([uk, uk + side * 0.12 * span])
+            ax.plot(ue, kap / (1 + kap) * m_ratio * (ue + shift), **dash)
+            ax.plot([uk - side * 0.12 * span, uk], [vk, vk], **dash)
+            ax.axvline(uk, color=grey, lw=0.6, ls=":")
+            if side > 0:
+                text = (
+                    rf"$u^* = {_kappa_inv_text(kap)}\,\mu(1+e)\,v'$" + "\n$\\;\\,$= "
+                    if shift == 0
+                    else "$u^*$ = "
+                )
+                ax.annotate(
+                    text + f"{uk:.3g} m/s",
+                    xy=(uk, vk),
+                    xytext=(10, -34),
+                    textcoords="offset points",
+                    fontsize=8,
+                    arrowprops={"arrowstyle": "-", "lw": 0.6, "color": "0.3"},
+                )
+            else:  # the mirror kink: a short tag
+                ax.annotate(
+                    "$-u^*$" if shift == 0 else f"{uk:.3g} m/s".replace("-", "\u2212"),
+                    xy=(uk, vk),
+                    xytext=(-6, 6),
+                    textcoords="offset points",
+                    ha="right",
+                    va="bottom",
+                    fontsize=8,
+                )
+        if inside:
+            ax.plot(inside, vx_k, "o", color="black", mfc="white", ms=5, zorder=5, gid="kink")
+        y_hi = max(float(np.max(vx)), plateau, 1e-12) * 1.25
+        y_lo = min(0.0, float(np.min(vx)) * 1.25)
+        if stick.any():
+            xs = u[stick]
+            u_sym = "u" if shift == 0 else r"(u + \omega_0 R)"
+            ax.text(
+                0.5 * (xs.min() + xs.max()),
+                0.93 * y_hi,
+                "sticking:\nleaves rolling\n" + rf"$v_x'' = {_kappa_text(kap)}\,{u_sym}$",
+                color=COLORS["sticking"],
+                ha="center",
+                va="top",
+                fontsize=8,
+            )
+        right = ~stick & (u > -shift)
+        if right.any():
+            xs = u[right]
+            ax.text(
+                0.5 * (xs.min() + xs.max()),
+                0.35 * plateau if y_lo >= 0 else -0.45 * plateau,
+                "sliding throughout\n" + r"$v_x'' = \mu(1+e)\,v'$",
+                color=COLORS["sliding"],
+                ha="center",
+                va="center",
+                fontsize=8,
+            )
+        ax.axhline(0.0, color="black", lw=0.5) if y_lo < 0 else None
+        ax.set_xlim(lo, hi)
+        ax.set_ylim(y_lo, y_hi)
+        ax.set_xlabel(r"surface speed of the disc under the ball $u$ [m/s]")
+        ax.set_ylabel(r"post-impact horizontal velocity $v_x''$ [m/s]")
+        return fig
+
+
+def _kappa_inv_text(kappa):
+    """(1+κ)/κ as text (3.5 for a solid sphere)."""
+    return f"{(1 + kappa) / kappa:.3g}"

@@ -1,0 +1,149 @@
+"""Tests of pipeline.figures: the plotted data must equal the physics, checked against closed
+forms (seed eqs. 5–7, PHYSICS.md §3) rather than against the code's own output.
+
+SEED: Ciornei et al., MATEC Web Conf. 112, 07005 (2017), doi:10.1051/matecconf/201711207005,
+Figs. 4 and 6.
+"""
+
+from __future__ import annotations
+
+import math
+
+import matplotlib
+import numpy as np
+import pytest
+
+from pipeline import InputError
+from pipeline.figures import (
+    default_scenes,
+    disc_kinks,
+    fig4_percussion_plane,
+    fig6_disc_velocity,
+    save,
+)
+from pipeline.rigid import sphere_on_plane
+
+
+def _by_gid(fig, gid):
+    found = [a for a in fig.findobj() if a.get_gid() == gid]
+    assert found, f"no artist with gid {gid!r}"
+    return found
+
+
+def _xy(line):
+    return np.column_stack([line.get_xdata(), line.get_ydata()]).astype(float)
+
+
+def _png_ok(path):
+    data = path.read_bytes()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n"
+    assert len(data) > 20_000  # a real drawing, not an empty canvas
+    assert [p.name for p in path.parent.iterdir()] == [path.name]  # no temp files left
+
+
+def test_fig4_draws_the_seed_construction(tmp_path, capsys):
+    d = default_scenes()
+    sl, st = d["fig4_sliding"], d["fig4_sticking"]
+    fig = fig4_percussion_plane(sl, st)
+    m, v, a, e = sl.m, sl.speed, math.radians(sl.angle_deg), sl.e
+    # SEED eq. 5 and Fig. 4: C at m·v'·cos α, T at (1+e)·m·v'·cos α, S at (2/7)·m·v'·sin α
+    (C,) = _by_gid(fig, "line-C")
+    (T,) = _by_gid(fig, "line-T")
+    (S,) = _by_gid(fig, "line-S")
+    np.testing.assert_allclose(C.get_ydata(), m * v * math.cos(a), rtol=1e-12)
+    np.testing.assert_allclose(T.get_ydata(), (1 + e) * m * v * math.cos(a), rtol=1e-12)
+    np.testing.assert_allclose(S.get_xdata(), 2 / 7 * m * v * math.sin(a), rtol=1e-12)
+    # the bold broken lines are exactly sphere_on_plane's vertices: O→E1 and O→A→E2 with
+    # E1 = (μ(1+e)·m·v'·cos α, ·) and E2 = ((2/7)·m·v'·sin α, (1+e)·m·v'·cos α) (SEED eq. 7)
+    (p_sl,) = _by_gid(fig, "path-sliding")
+    (p_st,) = _by_gid(fig, "path-sticking")
+    np.testing.assert_allclose(_xy(p_sl), sphere_on_plane(sl).vertices, rtol=1e-12)
+    np.testing.assert_allclose(_xy(p_st), sphere_on_plane(st).vertices, rtol=1e-12)
+    Pn_f = (1 + e) * m * v * math.cos(a)
+    np.testing.assert_allclose(_xy(p_sl)[-1], [sl.mu * Pn_f, Pn_f], rtol=1e-12)
+    np.testing.assert_allclose(_xy(p_st)[-1], [2 / 7 * m * v * math.sin(a), Pn_f], rtol=1e-12)
+    # the ray at β ends at S ∩ T: tan β = 2·tan α/(7(1+e)) (SEED eq. 6)
+    (ray,) = _by_gid(fig, "ray-beta")
+    x, y = _xy(ray)[-1]
+    assert x / y == pytest.approx(2 * math.tan(a) / (7 * (1 + e)), rel=1e-12)
+    ax = p_sl.axes
+    assert "[N" in ax.get_xlabel() and "[N" in ax.get_ylabel()
+    assert ax.get_aspect() == 1.0  # equal scales: the drawn angles are the true ones
+    labels = {t.get_text().strip() for t in fig.findobj(matplotlib.text.Text)}
+    assert {"A", "$E_1$", "$E_2$", "(S)", "(C)", "(T)", r"$\beta$"} <= labels
+    out = save(fig, tmp_path / "fig4.png")
+    _png_ok(out)
+    assert capsys.readouterr() == ("", "")
+
+
+def test_fig4_two_panels_when_constructions_differ():
+    d = default_scenes()
+    fig = fig4_percussion_plane(d["fig4_sliding"], d["fig4_sticking"].replace(angle_deg=40.0))
+    (p_sl,) = _by_gid(fig, "path-sliding")
+    (p_st,) = _by_gid(fig, "path-sticking")
+    assert p_sl.axes is not p_st.axes
+    # shared limits so the two panels compare
+    assert p_sl.axes.get_xlim() == p_st.axes.get_xlim()
+    assert p_sl.axes.get_ylim() == p_st.axes.get_ylim()
+
+
+def test_fig4_rejects_a_scene_in_the_wrong_regime():
+    d = default_scenes()
+    with pytest.raises(InputError, match="scene_sliding is in the sticking regime"):
+        fig4_percussion_plane(d["fig4_sticking"], d["fig4_sticking"])
+
+
+def test_fig6_kink_at_the_closed_form_u_star(tmp_path):
+    # Ball dropped vertically (v_n0 = v') on a disc moving at u: relative slip −u.
+    # Sticking exit: Pt = (2/7)·m·u, lab velocity v_x'' = Pt/m = (2/7)·u.
+    # Sliding exit: Pt = μ(1+e)·m·v', v_x'' = μ(1+e)·v'.
+    # They meet at u* = 3.5·μ·(1+e)·v' (PHYSICS.md §3 regime test with tan α → u/v').
+    scene = default_scenes()["fig6"]
+    mu, e, v = scene.mu, scene.e, scene.speed
+    u_star = 3.5 * mu * (1 + e) * v
+    fig = fig6_disc_velocity(scene, np.linspace(0.0, 3.0, 61))
+    (kink,) = _by_gid(fig, "kink")
+    np.testing.assert_allclose(kink.get_xdata(), [u_star], rtol=1e-12)
+    np.testing.assert_allclose(kink.get_ydata(), [2 / 7 * u_star], rtol=1e-12)
+    assert disc_kinks(scene)[1] == pytest.approx(u_star, rel=1e-12)
+    (curve,) = _by_gid(fig, "v-x")
+    u, vx = _xy(curve).T
+    assert np.isclose(u, u_star, rtol=1e-12).any()  # the corner is a vertex of the polyline
+    np.testing.assert_allclose(vx, np.minimum(2 / 7 * u, mu * (1 + e) * v), rtol=1e-12, atol=1e-15)
+    # slopes either side of the kink, from the plotted points
+    left, right = u <= u_star, u >= u_star
+    assert np.polyfit(u[left], vx[left], 1)[0] == pytest.approx(2 / 7, rel=1e-9)
+    assert np.polyfit(u[right], vx[right], 1)[0] == pytest.approx(0.0, abs=1e-12)
+    # and the regime really changes there
+    just = sphere_on_plane(scene.replace(surface_speed=np.array([0.999, 1.001]) * u_star))
+    assert list(just.regime) == ["sticking", "sliding"]
+    ax = curve.axes
+    assert "[m/s]" in ax.get_xlabel() and "[m/s]" in ax.get_ylabel()
+    _png_ok(save(fig, tmp_path / "fig6.png"))
+
+
+def test_fig6_symmetric_range_has_two_kinks_and_odd_curve():
+    scene = default_scenes()["fig6"]
+    u_star = 3.5 * scene.mu * (1 + scene.e) * scene.speed
+    fig = fig6_disc_velocity(scene, np.linspace(-2.5, 2.5, 41))
+    (kink,) = _by_gid(fig, "kink")
+    np.testing.assert_allclose(np.sort(kink.get_xdata()), [-u_star, u_star], rtol=1e-12)
+    u, vx = _xy(_by_gid(fig, "v-x")[0]).T
+    np.testing.assert_allclose(vx, -vx[::-1], atol=1e-15)  # odd in u: mirror image
+
+
+def test_fig6_bad_input():
+    scene = default_scenes()["fig6"]
+    with pytest.raises(InputError, match="angle_deg = 0"):
+        fig6_disc_velocity(scene.replace(angle_deg=10.0))
+    with pytest.raises(InputError, match="two finite"):
+        fig6_disc_velocity(scene, [1.0])
+
+
+def test_figures_leave_pyplot_alone():
+    import matplotlib.pyplot as plt
+
+    before = plt.get_fignums()
+    fig4_percussion_plane()
+    fig6_disc_velocity()
+    assert plt.get_fignums() == before
