@@ -241,6 +241,8 @@ def test_ignored_columns_listed(tmp_path):
         ("gap.csv", "time [s],Fx [N],Fz [N]\n0,1,2\n\n1,,2\n2,1,1\n", "missing", 4, "Fx [N]"),
         ("few.csv", "time [s],Fx [N],Fz [N]\n0,1,2\n1,2\n2,1,1\n", "has 2 fields", 3, None),
         ("many.csv", "time [s],Fx [N],Fz [N]\n0,1,2\n1,2,3,4\n2,1,1\n", "has 4 fields", 3, None),
+        # every row one field too many: pandas would only warn and drop data
+        ("allmany.csv", "time [s],Fz [N]\n0,1,2\n1,2,3\n", "has 3 fields", 2, None),
         ("back.csv", "time [s],Fz [N]\n0,1\n2,2\n1,3\n", "goes backwards", 4, "time [s]"),
         ("repeat.csv", "t [ms];Fz [N]\n0;1\n1;2\n1;3\n", "repeats", 4, "t [ms]"),
         ("tunit.csv", "time [V],Fz [N]\n0,1\n1,2\n", "not a time unit", None, "time [V]"),

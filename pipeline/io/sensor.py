@@ -39,6 +39,7 @@ from __future__ import annotations
 
 import io
 import re
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -406,19 +407,28 @@ def parse_sensor_bytes(
     labels = [f"c{j}" for j in range(len(raw_names))]
     first_line = header_line + 1
     try:
-        frame = pd.read_csv(
-            body_source,
-            sep=sep,
-            decimal=dec,
-            header=None,
-            names=labels,
-            index_col=False,
-            # no usecols: with it pandas silently drops surplus fields on a line
-            dtype={lab: (float if j in wanted else object) for j, lab in enumerate(labels)},
-            engine="c",
-            skip_blank_lines=True,
-        )
-    except (ValueError, pd.errors.ParserError, pd.errors.EmptyDataError) as exc:
+        with warnings.catch_warnings():
+            # pandas only warns when every row has more fields than the header and then
+            # drops data: make that an error
+            warnings.simplefilter("error", pd.errors.ParserWarning)
+            frame = pd.read_csv(
+                body_source,
+                sep=sep,
+                decimal=dec,
+                header=None,
+                names=labels,
+                index_col=False,
+                # no usecols: with it pandas silently drops surplus fields on a line
+                dtype={lab: (float if j in wanted else object) for j, lab in enumerate(labels)},
+                engine="c",
+                skip_blank_lines=True,
+            )
+    except (
+        ValueError,
+        pd.errors.ParserError,
+        pd.errors.EmptyDataError,
+        pd.errors.ParserWarning,
+    ) as exc:
         shown = [raw_names[j] if names[j] else None for j in range(len(raw_names))]
         _diagnose(str(body), first_line, sep, dec, shown, p, exc)
     n = len(frame)

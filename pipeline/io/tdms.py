@@ -52,6 +52,10 @@ def _open(raw: bytes, p):
     log = logging.getLogger("nptdms")
     caught = _Collect()
     log.addHandler(caught)
+    console = _nptdms_console()
+    level = console.level if console is not None else None
+    if console is not None:
+        console.setLevel(logging.CRITICAL + 1)  # the library does not print; we report
     try:
         tdms = TdmsFile.read(io.BytesIO(raw))
     except Exception as exc:  # npTDMS raises many types on a corrupt file
@@ -62,6 +66,8 @@ def _open(raw: bytes, p):
         ) from exc
     finally:
         log.removeHandler(caught)
+        if console is not None:
+            console.setLevel(level)
     if caught.messages:
         raise InputError(
             f"this TDMS file is truncated or corrupt (npTDMS: {caught.messages[0]}); copy it "
@@ -71,13 +77,27 @@ def _open(raw: bytes, p):
     return tdms
 
 
+def _nptdms_console():
+    try:
+        from nptdms.log import log_manager
+
+        return log_manager.console_handler
+    except (ImportError, AttributeError):  # pragma: no cover - npTDMS internals changed
+        return None
+
+
 class _Collect(logging.Handler):
+    """Warnings npTDMS logs while reading: truncation, cropped data, unsupported scaling,
+    version mismatch. A string property that is not UTF-8 (decoded with replacement
+    characters, logged by ``nptdms.types``) does not make the data wrong and is let pass."""
+
     def __init__(self):
         super().__init__(level=logging.WARNING)
         self.messages = []
 
     def emit(self, record):
-        self.messages.append(record.getMessage())
+        if not record.name.startswith("nptdms.types"):
+            self.messages.append(record.getMessage())
 
 
 def _columns(group):

@@ -1,0 +1,195 @@
+"""Fuzzing the readers, and the netCDF round trip of every format.
+
+Property: whatever bytes a file holds, ``pipeline.io.load`` either returns a record that
+passes ``pipeline.record.validate`` or raises ``InputError`` — never another exception,
+never a bare pandas/numpy/npTDMS traceback.
+"""
+
+from __future__ import annotations
+
+import shutil
+import tempfile
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from pipeline.errors import InputError, PlaneImpactWarning
+from pipeline.io import load, validate
+
+SAMPLES = Path(__file__).resolve().parents[1] / "data_samples"
+SAMPLE_FILES = {
+    "sensor_decimal_comma.csv": {},
+    "wpd_Fn.csv": {"time_unit": "us", "force_unit": "N"},
+    "wpd_datasets.csv": {"time_unit": "us", "force_unit": "N"},
+    "sensor.tdms": {},
+}
+SMALL = {  # short valid files: mutations reach every line of them quickly
+    "small.csv": b"# a: 1\r\ntime [ms];Fx [kN];Fy [kN];Fz [kN]\r\n0;0,1;0;1,5\r\n"
+    b"1;0,2;0;2,5\r\n2;0,1;0;1,0\r\n",
+    "Fn.csv": b"2, 20\n1, 10\n3, 5\n4, 1\n",
+    "wpd_datasets.csv": b"Fn,,Ft,\nX,Y,X,Y\n1,2,1.5,3\n2,3,2.5,4\n3,1,,\n",
+}
+ORIGINALS = {name: (SAMPLES / name).read_bytes() for name in SAMPLE_FILES} | SMALL
+TOKENS = [
+    "",
+    " ",
+    "nan",
+    "NaN",
+    "inf",
+    "-inf",
+    "abc",
+    "1e400",
+    "-1e-400",
+    "1,5",
+    "1.5",
+    "0",
+    "-0",
+    '"',
+    "#",
+    "[kN]",
+    "(ms)",
+    "µs",
+    "\t",
+    ";",
+    ",",
+    "1_0",
+    "0x10",
+    "\x00",
+    "é",
+]
+
+_TMP = Path(tempfile.mkdtemp(prefix="io_fuzz_"))
+
+
+def teardown_module(module):
+    shutil.rmtree(_TMP, ignore_errors=True)
+
+
+def _check(name: str, data: bytes, kwargs: dict):
+    path = _TMP / name
+    path.write_bytes(data)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", PlaneImpactWarning)  # a mutated Fy may be large
+        try:
+            rec = load(path, **kwargs)
+        except InputError as exc:
+            assert name in str(exc) or "does not apply" in str(exc) or "keyword" in str(exc)
+            return
+    validate(rec)
+    t = rec["time"].values
+    assert t.size >= 2 and np.all(np.diff(t) > 0) and np.all(np.isfinite(t))
+    assert rec.attrs["format"] in ("sensor_csv", "wpd", "wpd_datasets", "tdms")
+
+
+# ---------------------------------------------------------------------------- mutations
+def _flip(data: bytes, draw) -> bytes:
+    if not data:
+        return data
+    i = draw(st.integers(0, len(data) - 1))
+    b = draw(st.integers(0, 255))
+    return data[:i] + bytes([b]) + data[i + 1 :]
+
+
+def _truncate(data: bytes, draw) -> bytes:
+    return data[: draw(st.integers(0, len(data)))]
+
+
+def _lines(data: bytes):
+    return data.split(b"\n")
+
+
+def _delete_line(data: bytes, draw) -> bytes:
+    lines = _lines(data)
+    i = draw(st.integers(0, len(lines) - 1))
+    return b"\n".join(lines[:i] + lines[i + 1 :])
+
+
+def _duplicate_line(data: bytes, draw) -> bytes:
+    lines = _lines(data)
+    i = draw(st.integers(0, len(lines) - 1))
+    j = draw(st.integers(0, len(lines)))
+    return b"\n".join(lines[:j] + [lines[i]] + lines[j:])
+
+
+def _replace_cell(data: bytes, draw) -> bytes:
+    lines = _lines(data)
+    i = draw(st.integers(0, len(lines) - 1))
+    line = lines[i]
+    sep = next((s for s in (b";", b"\t", b",") if s in line), b",")
+    cells = line.split(sep)
+    k = draw(st.integers(0, len(cells) - 1))
+    token = draw(st.sampled_from(TOKENS) | st.text(max_size=6)).encode("utf-8")
+    cells[k] = token
+    lines[i] = sep.join(cells)
+    return b"\n".join(lines)
+
+
+MUTATORS = [_flip, _truncate, _delete_line, _duplicate_line, _replace_cell]
+
+
+@st.composite
+def mutated(draw):
+    name = draw(st.sampled_from(sorted(ORIGINALS)))
+    data = ORIGINALS[name]
+    for _ in range(draw(st.integers(1, 3))):
+        data = draw(st.sampled_from(MUTATORS))(data, draw)
+    kwargs = dict(SAMPLE_FILES.get(name, {"time_unit": "ms", "force_unit": "N"}))
+    if name == "small.csv":
+        kwargs = {}
+    return name, data, kwargs
+
+
+@settings(max_examples=3000, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(mutated())
+def test_mutated_files_give_record_or_input_error(case):
+    name, data, kwargs = case
+    _check(name, data, kwargs)
+
+
+@settings(max_examples=1500, deadline=None)
+@given(
+    data=st.binary(max_size=400)
+    | st.text(
+        alphabet=st.sampled_from(list("0123456789.,;\t\n\r -+eE#[]()xyXYFtnzms")), max_size=300
+    ).map(lambda s: s.encode()),
+    name=st.sampled_from(["r.csv", "Fn.csv", "r.tdms", "r.txt"]),
+    units=st.booleans(),
+)
+def test_random_bytes_give_record_or_input_error(data, name, units):
+    kwargs = {"time_unit": "ms", "force_unit": "N"} if units else {}
+    _check(name, data, kwargs)
+
+
+# ------------------------------------------------------------------------ netCDF round trip
+@pytest.mark.parametrize(
+    "source,kwargs",
+    [
+        ("sensor_decimal_comma.csv", {}),
+        ("wpd_Fn.csv", {"time_unit": "us", "force_unit": "N"}),
+        ("wpd_datasets.csv", {"time_unit": "us", "force_unit": "N"}),
+        ({"Fn": "wpd_Fn.csv", "Ft": "wpd_Ft.csv"}, {"time_unit": "us", "force_unit": "N"}),
+        ("sensor.tdms", {}),
+    ],
+)
+def test_netcdf_round_trip_loses_nothing(tmp_path, source, kwargs):
+    if isinstance(source, dict):
+        source = {k: SAMPLES / v for k, v in source.items()}
+    else:
+        source = SAMPLES / source
+    rec = load(source, radius=0.0127, mass=0.06735, angle_deg=15, **kwargs)
+    for key, value in rec.attrs.items():  # netCDF-serialisable attributes only
+        assert isinstance(value, str | float), (key, value)
+    out = tmp_path / "r.nc"
+    rec.to_netcdf(out, engine="h5netcdf")
+    with xr.open_dataset(out, engine="h5netcdf") as back:
+        back = back.load()
+    xr.testing.assert_identical(rec, back)
+    assert back.attrs == rec.attrs
+    for name in rec.variables:
+        assert back[name].dtype == rec[name].dtype, name
+        assert back[name].attrs == rec[name].attrs, name
