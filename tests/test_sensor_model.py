@@ -123,8 +123,8 @@ def test_ideal_sensor_reproduces_the_exact_pulse(ideal):
 def test_noise_offset_drift_recovered_from_pre_trigger(ideal):
     noise = np.array([2.0, 1.0, 0.5])
     offset = np.array([5.0, -3.0, 1.5])
-    drift = np.array([2.0e4, -1.0e4, 5.0e3])  # [N/s]: 10, −5, 2.5 N over the window
-    rate, pre = 2e6, 500e-6
+    drift = np.array([2.0e3, -1.0e3, 5.0e2])  # [N/s]: 10, −5, 2.5 N over the window
+    rate, pre = 2e6, 5e-3  # 10 000 pre-trigger samples: 5 SE of the rms ≈ 3.5 %
     r = to_sensor(
         ideal, rate=rate, pre_trigger=pre, noise=noise, offset=offset, drift=drift, seed=2024
     )
