@@ -110,7 +110,8 @@ class SphereOnPlane:
     Pn_c : float — normal percussion at maximum compression, line C: m*·v_n0 [N·s]
     Pn_f : float — final normal percussion, line T: (1+e)·m*·v_n0 [N·s]
     Pt_f : float — final tangential percussion, ≥ 0 [N·s]
-    Pt_S : float — abscissa of the sticking line S: κ/(1+κ)·m*·|slip0| [N·s]
+    Pt_S : float — abscissa of the sticking line S: m_t·|slip0| (κ/(1+κ)·m·|slip0| for a
+        fixed target) [N·s]
     mu : float — slope dPt/dPn of the limit-friction line LF [-]
     regime : str — ``"sliding"`` (end point E1 on LF) or ``"sticking"`` (corner A, then
         along S to E2). Zero initial slip is ``"sticking"`` (no friction impulse).
@@ -118,20 +119,25 @@ class SphereOnPlane:
         sliding throughout iff μ ≤ tan β
     phi : float — friction angle atan μ [rad], measured from the Pn axis
     e_t : float — tangential restitution of the centre, v_t/v_t0 [-] (NaN where v_t0 = 0)
-    omega : float — spin after impact [rad/s], same sense as ``Scene.spin`` (positive is
-        the sense a positive Pt gives when the initial slip is along +t)
-    v_n : float — normal velocity of the ball's centre after impact, away from the target
-        [m/s] (frame of the target's initial velocity; e·v_n0 for a fixed target)
-    v_t : float — tangential velocity of the ball's centre after impact, relative to the
-        target surface, along the same axis as ``Scene.v_t0`` [m/s]
+    omega : float — ball's spin after impact [rad/s], same sense as ``Scene.spin`` (positive
+        is the sense a positive Pt gives when the initial slip is along +t). The scene's
+        axis is kept (signs restored): ``t_sign·omega`` is the value on the slip axis that
+        :func:`pipeline.simulate.impact` reports.
+    v_n : float — normal separation speed of the centres after impact, e·v_n0 [m/s]
+    v_t : float — tangential velocity of the ball's centre relative to the target (its
+        centre, or its surface for a fixed target) after impact, on the axis of
+        ``Scene.v_t0`` [m/s]; ``t_sign·v_t`` is the slip-axis value
     slip0 : float — initial slip of the contact point, v_t0 − spin·R [m/s] (signed)
     slip_f : float — slip after impact [m/s] (0 in the sticking regime)
     corner : ndarray (..., 2) — (Pt, Pn) of the corner A (NaN in the sliding regime) [N·s]
     vertices : ndarray — (k, 2) rows (Pt, Pn) [N·s]: origin, corner A (sticking only),
         end point E1 or E2. For an array of scenes the shape is (..., 3, 2) and a sliding
         scene repeats E1 in the middle row, so every path has three rows.
-    m_eff : float — effective mass of the normal impact [kg]
+    m_eff : float — effective mass of the normal impact m* [kg]
+    m_t : float — effective mass of the tangential (slip) motion [kg]:
+        1/m_t = (1 + 1/κ)/m + (1 + 1/κ2)/m2, κ/(1+κ)·m for a fixed target
     kappa : float — I/(m·R²) of the ball [-]
+    t_sign : float — sign of the initial slip (+1 for zero slip)
     """
 
     Pn_c: object
@@ -151,7 +157,9 @@ class SphereOnPlane:
     corner: np.ndarray
     vertices: np.ndarray
     m_eff: object
+    m_t: object
     kappa: object
+    t_sign: object
 
     # --- the four lines of the seed's Fig. 4 under the seed's names
     @property
@@ -186,7 +194,7 @@ class SphereOnPlane:
         return _out(np.minimum(_a(self.mu) * _a(Pn), _a(self.Pt_S)))
 
 
-def sphere_on_plane(scene: Scene) -> SphereOnPlane:
+def sphere_on_plane(scene: Scene, *, target_kappa=None) -> SphereOnPlane:
     """Routh's rigid-body solution for a sphere striking a plane (seed eqs. 4–7).
 
     Parameters
@@ -195,6 +203,9 @@ def sphere_on_plane(scene: Scene) -> SphereOnPlane:
         Uses ``radius``, mass, ``kappa``, ``speed``, ``angle_deg``, ``mu``, ``e``, ``spin``,
         ``surface_speed``, ``target_mass`` and ``target_radius``. Fields may be arrays
         (broadcast); the result then holds arrays (no Python loop over scenes).
+    target_kappa : float or array, optional
+        I/(m·R²) of a free target sphere [-]; default the ball's κ (as in
+        :func:`pipeline.simulate.impact`). Ignored for a fixed target.
 
     Returns
     -------
@@ -216,21 +227,25 @@ def sphere_on_plane(scene: Scene) -> SphereOnPlane:
 
     .. math::
 
-        v_t = v_{t0} - \\sigma P_t/m, \\qquad
+        v_t = v_{t0} - \\sigma P_t/m^*, \\qquad
         \\omega = \\omega_0 + \\sigma P_t/(\\kappa m R), \\qquad
-        v_n = -v_{n0} + P_n/m .
+        v_n = -v_{n0} + P_n/m^* .
 
-    Sliding: :math:`P_t = \\mu(1+e)m^*v_{n0}` (E1); sticking:
-    :math:`P_t = \\tfrac{\\kappa}{1+\\kappa}m^*|s_0|` (E2), reached at the corner A,
-    :math:`P_n = P_{tS}/\\mu`. For the seed's set-up (κ = 2/5, no spin, fixed target)
-    E2 = ((2/7)·m·v'·sin α, (1+e)·m·v'·cos α) (seed eq. 7), e_t = 1 − μ(1+e)/tan α when
-    sliding and 5/7 when sticking.
+    Sliding: :math:`P_t = \\mu(1+e)m^*v_{n0}` (E1); sticking: :math:`P_t = m_t|s_0|` (E2),
+    reached at the corner A, :math:`P_n = P_{tS}/\\mu`. The angle of seed eq. 6 is
+    :math:`\\tan\\beta = P_{tS}/P_{nT} = m_t|s_0|/((1+e)m^*v_{n0})`, generalising
+    2·tan α/(7(1+e)) (κ = 2/5 gives κ/(1+κ) = 2/7). For the seed's set-up (κ = 2/5, no
+    spin, fixed target) E2 = ((2/7)·m·v'·sin α, (1+e)·m·v'·cos α) (seed eq. 7),
+    e_t = 1 − μ(1+e)/tan α when sliding and 5/7 when sticking.
 
-    Two-body target: a finite ``target_mass`` with a finite ``target_radius`` is taken to be
-    a free sphere with the same κ as the ball, not spinning, struck along its line of
-    centres. Then the normal and tangential inverse masses both scale with
-    :math:`1/m^* = 1/m + 1/m_2`, and every formula above holds with :math:`m \\to m^*`
-    (the ball's own velocity and spin changes still use its own m and I).
+    Two-body target: a finite ``target_mass`` with a finite ``target_radius`` is a free
+    sphere (κ2 = ``target_kappa``, default the ball's κ), not spinning, struck along its
+    line of centres. The normal problem uses :math:`1/m^* = 1/m + 1/m_2`, the slip
+    :math:`1/m_t = (1+1/\\kappa)/m + (1+1/\\kappa_2)/m_2`; velocities are relative
+    (ball centre minus target centre), so :math:`v_n = e\\,v_{n0}` and ``e_t`` compares
+    relative tangential velocities, as in :func:`pipeline.simulate.impact`. With
+    κ2 = κ, :math:`m_t = \\tfrac{\\kappa}{1+\\kappa}m^*` and every fixed-target formula holds
+    with :math:`m \\to m^*`.
 
     References
     ----------
@@ -239,6 +254,10 @@ def sphere_on_plane(scene: Scene) -> SphereOnPlane:
     doi:10.1115/1.2893771.
     """
     tm, tr = _a(scene.target_mass), _a(scene.target_radius)
+    if target_kappa is not None and not np.all(
+        np.isfinite(_a(target_kappa)) & (_a(target_kappa) > 0)
+    ):
+        raise InputError("sphere_on_plane: target_kappa must be positive (0.4 solid sphere)")
     if np.any(np.isfinite(tm) & ~np.isfinite(tr)):
         raise InputError(
             "sphere_on_plane: a movable flat target (finite target_mass, flat surface) needs "
@@ -256,14 +275,19 @@ def sphere_on_plane(scene: Scene) -> SphereOnPlane:
     v_n0 = _a(scene.v_n0)
     v_t0 = _a(scene.v_t0)
     slip0 = _a(scene.slip0)
-    m_eff, kappa, R, mu, e, spin, v_n0, v_t0, slip0, m = np.broadcast_arrays(
-        m_eff, kappa, R, mu, e, spin, v_n0, v_t0, slip0, m
+    kappa2 = kappa if target_kappa is None else _a(target_kappa)
+    m_eff, kappa, kappa2, R, mu, e, spin, v_n0, v_t0, slip0, m, tm = np.broadcast_arrays(
+        m_eff, kappa, kappa2, R, mu, e, spin, v_n0, v_t0, slip0, m, tm
     )
     sigma = np.sign(slip0)
+    # tangential effective mass: 1/m_t = (1 + 1/κ)/m + (1 + 1/κ2)/m2 (0 for a fixed target)
+    m_t = 1.0 / (
+        (1.0 + 1.0 / kappa) / m + np.where(np.isfinite(tm), (1.0 + 1.0 / kappa2) / tm, 0.0)
+    )
 
     Pn_c = m_eff * v_n0
     Pn_f = (1.0 + e) * Pn_c
-    Pt_S = kappa / (1.0 + kappa) * m_eff * np.abs(slip0)
+    Pt_S = m_t * np.abs(slip0)
     Pt_LF = mu * Pn_f
     sliding = (Pt_LF <= Pt_S) & (slip0 != 0)
     Pt_f = np.where(sliding, Pt_LF, Pt_S)
@@ -273,10 +297,10 @@ def sphere_on_plane(scene: Scene) -> SphereOnPlane:
     beta = np.arctan2(Pt_S, Pn_f)
     phi = np.arctan(mu)
 
-    v_t = v_t0 - sigma * Pt_f / m
+    v_t = v_t0 - sigma * Pt_f / m_eff
     omega = spin + sigma * Pt_f / (kappa * m * R)
-    v_n = -v_n0 + Pn_f / m
-    slip_f = np.where(sliding, slip0 - sigma * Pt_f / (m_eff * kappa / (1.0 + kappa)), 0.0)
+    v_n = -v_n0 + Pn_f / m_eff
+    slip_f = np.where(sliding, slip0 - sigma * Pt_f / m_t, 0.0)
     with np.errstate(divide="ignore", invalid="ignore"):
         e_t = np.where(v_t0 != 0, v_t / np.where(v_t0 != 0, v_t0, 1.0), np.nan)
     regime = np.where(sliding, "sliding", "sticking")
@@ -309,7 +333,9 @@ def sphere_on_plane(scene: Scene) -> SphereOnPlane:
         corner=corner,
         vertices=vertices,
         m_eff=_out(m_eff),
+        m_t=_out(m_t),
         kappa=_out(kappa),
+        t_sign=_out(np.where(sigma < 0, -1.0, 1.0)),
     )
 
 

@@ -166,15 +166,26 @@ def test_zero_slip_and_frictionless_cases():
 
 
 def test_two_body_free_sphere_target():
-    # Equal free spheres, head-on, e = 1: the striker stops (momentum exchange).
+    # Equal free spheres, head-on, e = 1: Pn = (1+e)·m*·v = m·v, so the striker stops
+    # (Newton's cradle); the relative separation speed is e·v.
     r = sphere_on_plane(ball(target_mass=M, target_radius=R, e=1.0))
     assert r.m_eff == pytest.approx(M / 2, rel=1e-12)
-    assert r.v_n == pytest.approx(0.0, abs=1e-12)
-    # Oblique, sticking: the relative contact slip vanishes at the end; the tangential
-    # inverse mass is (1+1/κ)(1/m + 1/m2), so Pt_S = κ/(1+κ)·m*·slip0.
+    assert r.Pn_f == pytest.approx(M * V, rel=1e-12)
+    assert r.v_n == pytest.approx(V, rel=1e-12)
+    # Oblique, sticking, target a thin shell (κ2 = 2/3) of mass 2m: the relative slip of
+    # the contact points stops, with 1/m_t = (1 + 1/κ)/m + (1 + 1/κ2)/m2 = 3.5/m + 1.25/m.
+    r = sphere_on_plane(
+        ball(angle_deg=30.0, target_mass=2 * M, target_radius=R, mu=1.0), target_kappa=2 / 3
+    )
+    assert r.regime == "sticking"
+    m_t = M / 4.75
+    assert r.Pt_f == pytest.approx(m_t * V * 0.5, rel=1e-12)
+    # relative slip after = v_t − ω1·R1 − ω2·R2 = 0 with ω2 = Pt·R/(κ2·m2·R²)
+    omega2 = r.Pt_f / (2 / 3 * 2 * M * R)
+    assert r.v_t - r.omega * R - omega2 * R == pytest.approx(0.0, abs=1e-12)
+    # default target_kappa is the ball's: m_t = κ/(1+κ)·m*
     r = sphere_on_plane(ball(angle_deg=30.0, target_mass=2 * M, target_radius=R, mu=1.0))
-    m_star = M * 2 * M / (3 * M)
-    assert r.Pt_f == pytest.approx(2 / 7 * m_star * V * 0.5, rel=1e-12)
+    assert r.m_t == pytest.approx(2 / 7 * r.m_eff, rel=1e-12)
     with pytest.raises(InputError, match="movable flat target"):
         sphere_on_plane(ball(target_mass=1.0))
 
