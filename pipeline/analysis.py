@@ -1,0 +1,380 @@
+"""One record to the seed paper's verdict: :func:`analyse` bundles every stage.
+
+record → :mod:`~pipeline.window` (contact, baseline, noise) → :mod:`~pipeline.fit`
+(quartic fits as in the seed) → :mod:`~pipeline.percussion`
+(Pn(t), Pt(t) from the fit and from the samples; maximum compression; Poisson, Newton and
+Stronge restitution) → :mod:`~pipeline.rigid` (Routh's broken line for the scene) →
+:mod:`~pipeline.score` (how far the measured Pt(Pn) is from it, with bootstrap
+uncertainties).
+
+Which percussions are scored (``source``): ``"simpson"`` integrates the samples themselves
+(no model error; the default when each channel has at least ``MIN_SAMPLES`` samples in the
+window), ``"fit"`` integrates the fitted polynomial (the seed's method; the default for
+sparse records). Both are always computed, and the seed's quartic-based score is reported
+beside the primary one, so the cost of the quartic is visible.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+
+import numpy as np
+import xarray as xr
+
+from . import fit as _fit
+from . import percussion as _perc
+from . import rigid as _rigid
+from . import score as _score
+from . import window as _window
+from .errors import InputError
+from .record import channel
+from .scene import Scene
+
+__all__ = ["Analysis", "analyse", "estimate_mu", "noise_level", "MIN_SAMPLES"]
+
+#: Fewest samples per channel in the window for scoring the samples themselves.
+MIN_SAMPLES = 20
+
+
+@dataclass(frozen=True, eq=False)
+class Analysis:
+    """Everything :func:`analyse` found for one record.
+
+    Attributes
+    ----------
+    scene : Scene
+        The scene as given.
+    rigid_scene : Scene
+        The scene the rigid prediction used (μ and e possibly taken from the record).
+    window : pipeline.window.ContactWindow
+    fits : pipeline.fit.WindowFits
+        Polynomial fits (degree ``options["degree"]``, 4 by default: the seed's quartics).
+    percussions : pipeline.percussion.Percussions
+    split : pipeline.percussion.CompressionSplit
+        Maximum compression and the restitution coefficients from ``source``.
+    rigid : pipeline.rigid.SphereOnPlane
+    score : pipeline.score.DeviationScore
+        Deviation of the ``source`` percussions from the broken line.
+    score_fit : pipeline.score.DeviationScore
+        The same for the polynomial fit's percussions (the seed's method).
+    mu_record : float
+        Friction coefficient estimated from the record (:func:`estimate_mu`) [-].
+    source : str
+    options : dict
+    """
+
+    scene: Scene
+    rigid_scene: Scene
+    window: object
+    fits: object
+    percussions: object
+    split: object
+    rigid: object
+    score: object
+    score_fit: object
+    mu_record: float
+    source: str
+    options: dict
+
+    @property
+    def record(self) -> xr.Dataset:
+        """The windowed, baseline-corrected record."""
+        return self.window.record
+
+    def summary(self) -> dict:
+        """JSON-ready dict of every number (units in key names)."""
+        rs = self.rigid
+        return {
+            "source": self.record.attrs.get("source", ""),
+            "sha256": self.record.attrs.get("sha256", ""),
+            "scene": self.scene.to_dict(),
+            "rigid_scene": self.rigid_scene.to_dict(),
+            "options": {k: v for k, v in self.options.items() if _jsonable(v)},
+            "window": self.window.summary(),
+            "fits": {
+                k: getattr(self.fits, k).summary()
+                for k in ("Fn", "Ft")
+                if getattr(self.fits, k) is not None
+            },
+            "percussions": self.percussions.summary(),
+            "split": self.split.summary(),
+            "mu_record": self.mu_record,
+            "rigid": {
+                "regime": str(rs.regime),
+                "beta_rad": float(rs.beta),
+                "Pn_c_Ns": float(rs.Pn_c),
+                "Pn_f_Ns": float(rs.Pn_f),
+                "Pt_f_Ns": float(rs.Pt_f),
+                "Pt_S_Ns": float(rs.Pt_S),
+                "e_t": float(rs.e_t),
+                "omega_rad_per_s": float(rs.omega),
+            },
+            "score": self.score.summary(),
+            "score_fit": self.score_fit.summary(),
+        }
+
+    def to_dataset(self) -> xr.Dataset:
+        """Percussions, fitted forces and the rigid line on the percussion grid (netCDF-ready).
+
+        The full :meth:`summary` is stored as JSON in ``attrs["summary_json"]``.
+        """
+        perc = self.percussions
+        ds = perc.to_dataset()
+        t = ds["time"].values
+        for name in ("Fn", "Ft"):
+            f = getattr(self.fits, name)
+            if f is not None:
+                ds[f"{name}_fit"] = (
+                    "time",
+                    np.asarray(f(t), dtype=float),
+                    {"units": "N", "long_name": f"{name} polynomial fit"},
+                )
+        Pn = perc.Pn(self.source)
+        ds["Pt_rigid"] = (
+            "time",
+            np.asarray(self.rigid.broken_line(Pn), dtype=float),
+            {"units": "N s", "long_name": "rigid broken line Pt(Pn) at the measured Pn"},
+        )
+        ds.attrs.update(
+            {
+                "record_source": self.record.attrs.get("source", ""),
+                "record_sha256": self.record.attrs.get("sha256", ""),
+                "score_source": self.source,
+                "regime": str(self.rigid.regime),
+                "area": self.score["area"],
+                "max_distance": self.score["max_distance"],
+                "Pt_drop": self.score["Pt_drop"],
+                "e_poisson": self.split.e_poisson,
+                "summary_json": json.dumps(self.summary(), default=_json_default),
+            }
+        )
+        return ds
+
+
+def _jsonable(v):
+    return isinstance(v, (int, float, str, bool, type(None)))
+
+
+def _json_default(o):
+    if isinstance(o, np.generic):
+        return o.item()
+    if isinstance(o, np.ndarray):
+        return o.tolist()
+    raise TypeError(f"not JSON-serialisable: {type(o)}")
+
+
+def estimate_mu(window, t_c: float, *, level: float = 0.3) -> float:
+    """Friction coefficient from the record: median Ft/Fn during compression [-].
+
+    Uses the samples before maximum compression ``t_c`` [s] where Fn exceeds ``level`` of
+    its peak (the ball slides there in every regime that starts sliding; PHYSICS.md §3).
+    Returns NaN without an Ft channel or without such samples.
+    """
+    rec = window.record
+    if "Ft" not in rec:
+        return float("nan")
+    tn, fn = channel(rec, "Fn")
+    tt, ft = channel(rec, "Ft")
+    fn_at = np.interp(tt, tn, fn)
+    sel = (tt <= t_c) & (fn_at > level * np.max(fn))
+    if not sel.any():
+        return float("nan")
+    return float(np.median(ft[sel] / fn_at[sel]))
+
+
+def analyse(
+    record: xr.Dataset,
+    scene: Scene,
+    *,
+    degree: int = 4,
+    end_constraints: bool = False,
+    source: str = "auto",
+    mu="scene",
+    e="scene",
+    split_method: str = "auto",
+    n_boot: int = 200,
+    seed: int = 0,
+    window_options: dict | None = None,
+) -> Analysis:
+    """Analyse one record against Routh's rigid model: window, fits, percussions, score.
+
+    Parameters
+    ----------
+    record : xarray.Dataset
+        A record (:func:`pipeline.io.load` or :func:`pipeline.simulate.impact`).
+    scene : Scene
+        The impact: mass, speed and angle give m*·v_n0 and the rigid prediction.
+    degree : int
+        Degree of the polynomial fits (4: the seed's quartics).
+    end_constraints : bool
+        Impose F = 0 at the window's ends in the polynomial fits.
+    source : {"auto", "simpson", "trapezoid", "fit"}
+        Which percussions are scored and split (module notes).
+    mu, e : "scene", "record" or float
+        Friction coefficient and restitution of the rigid prediction: the scene's, the
+        record's (μ by :func:`estimate_mu`, e by Poisson's coefficient), or a number.
+    split_method : str
+        How maximum compression is found (:func:`pipeline.percussion.compression_split`).
+    n_boot : int
+        Residual-bootstrap replicates for the score's uncertainties (0: none).
+    seed : int
+        Seed of the bootstrap.
+    window_options : dict, optional
+        Passed to :func:`pipeline.window.find_contact`.
+
+    Returns
+    -------
+    Analysis
+    """
+    if not isinstance(scene, Scene):
+        raise InputError("analyse needs a pipeline.Scene describing the impact")
+    win = _window.find_contact(record, **(window_options or {}))
+    fits = _fit.fit_window(win, method="polynomial", degree=degree, end_constraints=end_constraints)
+    n_min = min(channel(win.record, c)[0].size for c in ("Fn", "Ft") if c in win.record)
+    if source == "auto":
+        source = "simpson" if n_min >= MIN_SAMPLES else "fit"
+    if source not in _perc.SOURCES:
+        raise InputError(f"source {source!r} is unknown; use 'auto' or one of {_perc.SOURCES}")
+    perc = _perc.percussions(win, fits)
+    split = _perc.compression_split(perc, scene, method=split_method, source=source)
+    mu_rec = estimate_mu(win, split.t_c)
+    rigid_scene = scene.replace(
+        mu=_choose(mu, scene.mu, mu_rec, "mu"), e=_choose(e, scene.e, split.e_poisson, "e")
+    )
+    rigid = _rigid.sphere_on_plane(rigid_scene)
+    if perc.Pt_fit is None:
+        raise InputError(
+            "the record has no tangential channel Ft: nothing to score against "
+            "the rigid broken line",
+            path=record.attrs.get("source"),
+        )
+    boot = _bootstrap(win, perc, fits, split, n_boot, seed)
+    score = _score.deviation_score(
+        perc.time,
+        perc.Pn(source),
+        perc.Pt(source),
+        rigid,
+        split.Pn_c,
+        boot=boot.get(source),
+        source=source,
+    )
+    if source == "fit":
+        score_fit = score
+    else:
+        split_fit = _perc.compression_split(perc, scene, method=split_method, source="fit")
+        score_fit = _score.deviation_score(
+            perc.time,
+            perc.Pn_fit,
+            perc.Pt_fit,
+            rigid,
+            split_fit.Pn_c,
+            boot=boot.get("fit"),
+            source="fit",
+        )
+    options = dict(
+        degree=degree,
+        end_constraints=end_constraints,
+        source=source,
+        mu=mu if isinstance(mu, str) else float(mu),
+        e=e if isinstance(e, str) else float(e),
+        split_method=split_method,
+        n_boot=n_boot,
+        seed=seed,
+    )
+    return Analysis(
+        scene=scene,
+        rigid_scene=rigid_scene,
+        window=win,
+        fits=fits,
+        percussions=perc,
+        split=split,
+        rigid=rigid,
+        score=score,
+        score_fit=score_fit,
+        mu_record=mu_rec,
+        source=source,
+        options=options,
+    )
+
+
+def _choose(how, from_scene, from_record, name):
+    if isinstance(how, str):
+        if how == "scene":
+            return from_scene
+        if how == "record":
+            if not np.isfinite(from_record):
+                raise InputError(f"{name} cannot be estimated from this record; give a number")
+            return float(np.clip(from_record, 0.0, 1.0 if name == "e" else np.inf))
+        raise InputError(f"{name}={how!r}: use 'scene', 'record' or a number")
+    return float(how)
+
+
+def noise_level(window, fits, name) -> float:
+    """Noise σ of channel ``name`` in the window [N], for the bootstrap.
+
+    The window's baseline estimate where it made one (sensor records); else, for dense
+    channels (≥ 50 samples), the robust second-difference estimate
+    1.4826·median|Δ²F|/√6 (white noise of σ gives Δ²F of σ√6, the smooth pulse almost
+    nothing); else (sparse, digitised) the RMS residual of the polynomial fit.
+    """
+    sigma = float(window.noise.get(name, float("nan")))
+    if np.isfinite(sigma):
+        return sigma
+    t, f = channel(window.record, name)
+    if t.size >= 50:
+        return float(1.4826 * np.median(np.abs(np.diff(f, 2))) / np.sqrt(6.0))
+    return float(getattr(fits, name).rms)
+
+
+def _bootstrap(win, perc, fits, split, n_boot, seed) -> dict:
+    """Bootstrap replicates of (Pn, Pt, Pn_c) on the percussion grid, per source.
+
+    Fit source (residual bootstrap): the polynomial's values plus its resampled residuals,
+    re-fitted in one batched least-squares solve. Sample sources (parametric bootstrap):
+    the samples plus white noise of the channel's :func:`noise_level`, integrated directly
+    — the spread of an integral of noisy samples, which is what the score's uncertainty is.
+    """
+    if n_boot <= 0:
+        return {}
+    rng = np.random.default_rng(seed)
+    grid = perc.time
+    ts, te = perc.t_start, perc.t_end
+    reps = {src: {} for src in _perc.SOURCES}
+    for name in ("Fn", "Ft"):
+        t, f = channel(win.record, name)
+        pf = getattr(fits, name)
+        base = np.asarray(pf(t))
+        F_b = base + (f - base)[rng.integers(0, t.size, size=(n_boot, t.size))]
+        batch = _fit.fit_polynomials_batch(
+            t,
+            F_b,
+            degree=pf.degree,
+            end_constraints=pf.end_constraints,
+            t_start=ts,
+            t_end=te,
+            warn=False,
+        )
+        reps["fit"][name] = batch.antiderivative(grid)
+        S_b = f + noise_level(win, fits, name) * rng.standard_normal((n_boot, t.size))
+        tp, S_p = t, S_b
+        if ts < t[0]:
+            tp = np.concatenate([[ts], tp])
+            S_p = np.concatenate([np.zeros((n_boot, 1)), S_p], axis=1)
+        if te > t[-1]:
+            tp = np.concatenate([tp, [te]])
+            S_p = np.concatenate([S_p, np.zeros((n_boot, 1))], axis=1)
+        for src in ("trapezoid", "simpson"):
+            P = _score.cumulative(tp, S_p, method=src)
+            if tp.size != grid.size or not np.array_equal(tp, grid):
+                P = np.stack([np.interp(grid, tp, row) for row in P])
+            reps[src][name] = P
+    out = {}
+    for src, d in reps.items():
+        Pn_b = d["Fn"]
+        if split.method == "momentum":
+            Pn_c_b = np.full(n_boot, split.Pn_c)
+        else:
+            Pn_c_b = np.trapezoid(Pn_b, grid, axis=-1) / (te - ts)
+        out[src] = (Pn_b, d["Ft"], Pn_c_b)
+    return out
