@@ -72,6 +72,8 @@ OUTCOME_UNITS = {
 SIM_OPTIONS = {"history": "total", "samples": 2001, "rtol": 1e-9}  # pipeline.simulate.impact
 OUTCOME_KEYS = tuple(OUTCOME_UNITS)
 
+TRUTH_DIGITS = 10  # significant digits of simulated outcomes in the sidecars
+
 FILE_NOTE = (
     "SYNTHETIC record (no public Garland-Rogers waveforms exist): simulated by "
     "pipeline.simulate.impact and pipeline.sensor_model.to_sensor; ground truth in {json}"
@@ -112,6 +114,19 @@ def jsonable(value):
     if isinstance(value, float | np.floating):
         v = float(value)
         return v if math.isfinite(v) else str(v)
+    return value
+
+
+def rounded(value, digits: int = TRUTH_DIGITS):
+    """Simulated outcomes to ``digits`` significant digits (floats only, recursively).
+
+    The simulator's last bits move with harmless refactors and platforms; rounding keeps
+    ``make data`` byte-stable. Scene and sensor parameters are never rounded.
+    """
+    if isinstance(value, dict):
+        return {k: rounded(v, digits) for k, v in value.items()}
+    if isinstance(value, float | np.floating) and math.isfinite(value) and value != 0:
+        return float(f"{float(value):.{digits - 1}e}")
     return value
 
 
@@ -234,16 +249,16 @@ def make_one(out: Path, name: str, scene: Scene, seed: int) -> dict:
             "tangential": TANGENTIAL,
             "history_rule": sim_attrs.get("history_rule"),
             "e_requested": E_N,
-            "damping_param": sim_attrs.get("damping_param"),
+            "damping_param": rounded(sim_attrs.get("damping_param")),
             "damping_param_name": sim_attrs.get("damping_param_name"),
             "damping_note": "Hunt-Crossley F = K d^1.5 (1 + c d'/v0), c calibrated exactly "
             "so that e_n = e (pipeline.contact.calibrate_hunt_crossley_family)",
             "impact_options": SIM_OPTIONS,
         },
-        "simulated_attrs": sim_attrs,
-        "outcome": {k: sim_attrs.get(k) for k in OUTCOME_KEYS},
+        "simulated_attrs": rounded(sim_attrs),
+        "outcome": rounded({k: sim_attrs.get(k) for k in OUTCOME_KEYS}),
         "outcome_units": OUTCOME_UNITS,
-        "truth": truth_summary(ideal),
+        "truth": rounded(truth_summary(ideal)),
         "hertz_elastic_reference": {
             "F_max [N]": hz.F_max,
             "t_c [s]": hz.t_c,
