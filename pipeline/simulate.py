@@ -326,7 +326,9 @@ def _events(pb: _Problem, tangential, history, mode):
 
     max_comp.terminal = False
     max_comp.direction = -1
-    evs = [sep_x, sep_f, max_comp]
+    # Hertz and Hunt–Crossley forces stay positive until δ = 0: end exactly there; other
+    # laws (dashpots) may let go earlier, when Fn falls to zero (threshold _F_END)
+    evs = [sep_x, sep_f if pb.hc_c is None else _never, max_comp]
     kind = mode[0]
     if tangential == "coulomb" and kind == "slide":
 
@@ -366,6 +368,14 @@ def _events(pb: _Problem, tangential, history, mode):
         release.direction = -1
         evs.append(release)
     return evs
+
+
+def _never(tau, y):
+    return 1.0
+
+
+_never.terminal = True
+_never.direction = -1
 
 
 def _initial_mode(pb: _Problem, tangential, history):
@@ -608,15 +618,17 @@ def impact(
 
         fn_N = padded(fn_N, 0.0, 0.0)
         ft_N = padded(ft_N, 0.0, 0.0)
+        # out of contact δ and ξ are 0 (δ < 0 is no contact); velocities and spin keep their
+        # values before and after the impact
+        contact_vars = ("delta", "xi")
         extra = {
             k: (
-                padded(v[0], v[0][0] if k != "delta" else 0.0, v[0][-1] if k != "delta" else 0.0),
+                padded(v[0], 0.0, 0.0) if k in contact_vars else padded(v[0], v[0][0], v[0][-1]),
                 v[1],
                 v[2],
             )
             for k, v in extra.items()
         }
-        # before contact δ = 0; after it the bodies separate (δ < 0 is not a contact)
     W_d = y_end[4] * m * v0**2
     W_f = y_end[5] * m * v0**2
     attrs = {

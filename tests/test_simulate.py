@@ -256,7 +256,8 @@ def test_rolling_contact_has_no_tangential_force():
     sc = al_oxide(angle=30.0, e=0.98)
     sc = sc.replace(spin=sc.v_t0 / sc.radius)
     rec = impact(sc, tangential="mindlin")
-    assert np.max(np.abs(rec["Ft"].values)) == 0.0
+    # s0 is zero up to rounding of v_t0 − (v_t0/R)·R
+    assert np.max(np.abs(rec["Ft"].values)) < 1e-12 * rec.attrs["F_max"]
     assert rec.attrs["e_t"] == pytest.approx(1.0)
 
 
