@@ -209,7 +209,7 @@ def _plane_limits(results):
     return max(x_hi, 1e-12), max(y_hi, 1e-12)
 
 
-def _draw_plane(ax, results, names, colors, limits=None):
+def _draw_plane(ax, results, names, colors, limits=None, seed_labels=True):
     """Draw S, C, T of ``results[0]`` and the LF line and path of each result."""
     ref = results[0]
     Pt_S, Pn_c, Pn_f = ref.Pt_S, ref.Pn_c, ref.Pn_f
@@ -237,9 +237,9 @@ def _draw_plane(ax, results, names, colors, limits=None):
         ax.text(
             mu * txt_n,
             txt_n,
-            rf"$_{{{tag}}}$LF  " if tag else "LF  ",
+            rf"  $_{{{tag}}}$LF" if tag else "  LF",
             color=col,
-            ha="right",
+            ha="left",
             va="center",
         )
         v = np.asarray(res.vertices)
@@ -260,12 +260,18 @@ def _draw_plane(ax, results, names, colors, limits=None):
         )
 
     # symbolic values of the lines on the opposite axes (as in the seed's Fig. 4)
-    kap = _kappa_text(float(ref.kappa))
+    if seed_labels:  # ball dropped on a still, fixed plane without spin: the seed's symbols
+        kap = _kappa_text(float(ref.kappa))
+        s_lab = rf"${kap}\,m v'\sin\alpha$"
+        c_lab, t_lab = r"$m v'\cos\alpha$", r"$(1+e)\,m v'\cos\alpha$"
+    else:  # spin, moving surface or free target: the general expressions
+        s_lab = r"$m_t\,|s_0|$"
+        c_lab, t_lab = r"$m^* v_{n0}$", r"$(1+e)\,m^* v_{n0}$"
     top = ax.secondary_xaxis("top")
-    top.set_xticks([Pt_S], [rf"${kap}\,m v'\sin\alpha$"])
+    top.set_xticks([Pt_S], [s_lab])
     top.tick_params(direction="in", length=3)
     right = ax.secondary_yaxis("right")
-    right.set_yticks([Pn_c, Pn_f], [r"$m v'\cos\alpha$", r"$(1+e)\,m v'\cos\alpha$"])
+    right.set_yticks([Pn_c, Pn_f], [c_lab, t_lab])
     right.tick_params(direction="in", length=3)
     for sec in (top, right):
         sec.spines[:].set_visible(False)
@@ -378,10 +384,14 @@ def fig4_percussion_plane(scene_sliding: Scene = None, scene_sticking: Scene = N
         results.append(res)
     names = ("sliding", "sticking")
     colors = (COLORS["sliding"], COLORS["sticking"])
+    seed_labels = all(
+        float(sc.spin) == 0 and float(sc.surface_speed) == 0 and math.isinf(sc.target_mass)
+        for sc in (scene_sliding, scene_sticking)
+    )
     with style():
         if _same_construction(*results):
             fig, ax = new_figure(width=SINGLE, height=4.0)
-            _draw_plane(ax, results, names, colors)
+            _draw_plane(ax, results, names, colors, seed_labels=seed_labels)
             _sketch_ball_on_plane(ax, math.radians(float(scene_sliding.angle_deg)))
         else:
             fig, axes = new_figure(1, 2, width=DOUBLE, height=4.0)
@@ -389,7 +399,14 @@ def fig4_percussion_plane(scene_sliding: Scene = None, scene_sticking: Scene = N
             for ax, res, scene, name, col, tag in zip(
                 axes, results, scenes, names, colors, ("(a)", "(b)"), strict=True
             ):
-                _draw_plane(ax, [res], [name], [col], limits=_plane_limits(results))
+                _draw_plane(
+                    ax,
+                    [res],
+                    [name],
+                    [col],
+                    limits=_plane_limits(results),
+                    seed_labels=seed_labels,
+                )
                 _sketch_ball_on_plane(ax, math.radians(float(scene.angle_deg)))
                 panel_label(ax, tag, x=-0.12)
         return fig

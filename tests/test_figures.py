@@ -147,3 +147,17 @@ def test_figures_leave_pyplot_alone():
     fig4_percussion_plane()
     fig6_disc_velocity()
     assert plt.get_fignums() == before
+
+
+def test_fig4_symbols_follow_the_scene():
+    # The seed's symbols ((2/7)·m·v'·sin α ...) hold only for a ball without spin on a still,
+    # fixed plane; with spin the general m_t·|s0| labels are used and the S line moves to
+    # Pt = (2/7)·m·|v'·sin α − ω0·R| (PHYSICS.md §1).
+    d = default_scenes()
+    sl, st = d["fig4_sliding"].replace(spin=-30.0), d["fig4_sticking"].replace(spin=-30.0)
+    fig = fig4_percussion_plane(sl, st)
+    texts = {t.get_text() for t in fig.findobj(matplotlib.text.Text)}
+    assert r"$m_t\,|s_0|$" in texts and not any("sin" in t for t in texts)
+    (S,) = _by_gid(fig, "line-S")
+    s0 = sl.speed * math.sin(math.radians(sl.angle_deg)) + 30.0 * sl.radius
+    np.testing.assert_allclose(S.get_xdata(), 2 / 7 * sl.m * s0, rtol=1e-12)
