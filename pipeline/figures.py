@@ -61,6 +61,7 @@ __all__ = [
     "fig4_percussion_plane",
     "fig6_disc_velocity",
     "default_scenes",
+    "disc_kinks",
 ]
 
 #: Figure widths [inch]: one journal column and the full page width.
@@ -416,9 +417,11 @@ def fig4_percussion_plane(scene_sliding: Scene = None, scene_sticking: Scene = N
 def disc_kinks(scene: Scene):
     """Surface speeds u* [m/s] where a ball dropped on a moving surface changes regime.
 
-    Returns ``(u_minus, u_plus)`` with u± = ±U − ω0·R,
-    U = (1+κ)/κ·μ·(1+e)·v_n0·m*/m*  (= 3.5·μ·(1+e)·v for a solid sphere on a fixed disc):
-    the slip −u − ω0·R whose sticking line S meets T on the friction line LF.
+    Returns ``(u_minus, u_plus)`` [m/s] with u± = ±U − ω0·R and
+    U = (1+κ)/κ·μ·(1+e)·v_n0 (= 3.5·μ·(1+e)·v' for a solid sphere): the slip s0 = −u − ω0·R
+    at which the sticking line S, Pt = κ/(1+κ)·m·|s0|, meets the termination line T on
+    the friction line LF, μ·(1+e)·m·v_n0 (seed eq. 6 with tan α → |s0|/v_n0). The disc
+    is a fixed target (``target_mass = inf``).
     """
     kappa = float(scene.kappa)
     U = (1 + kappa) / kappa * float(scene.mu) * (1 + float(scene.e)) * float(scene.v_n0)
@@ -437,16 +440,18 @@ def fig6_disc_velocity(scene: Scene = None, surface_speeds=None) -> Figure:
 
     .. math::
 
-        v_x'' = v_t + u = \\frac{\\sigma_u P_t}{m} =
-        \\begin{cases} \\frac{\\kappa}{1+\\kappa}\\,\\frac{m^*}{m}\\,u
+        v_x'' = v_t + u = \\operatorname{sign}(u)\\,\\frac{P_t}{m} =
+        \\begin{cases} \\frac{\\kappa}{1+\\kappa}\\,u
                        & |u| \\le u^* \\text{ (sticks: leaves rolling)} \\\\
-                       \\operatorname{sign}(u)\\,\\mu(1+e)\\,\\frac{m^*}{m}\\,v' & |u| \\ge u^*
+                       \\operatorname{sign}(u)\\,\\mu(1+e)\\,v' & |u| \\ge u^*
                        \\text{ (slides throughout)} \\end{cases}
 
-    (no initial spin; positive along the surface's motion) with the kink at
-    u* = (1+κ)/κ·μ(1+e)·v' = 3.5·μ(1+e)·v' for a solid sphere. Rigid theory thus predicts
-    a linear rise and then a plateau; the seed's measured run-out distance falls beyond
-    the kink instead.
+    (no initial spin; positive along the surface's motion; the friction impulse drags the
+    ball along, Pt ≥ 0 opposing the initial slip −u), with the kink at
+    u* = (1+κ)/κ·μ(1+e)·v' = 3.5·μ(1+e)·v' for a solid sphere (:func:`disc_kinks`; with a
+    spin ω0 the kinks shift by −ω0·R). Rigid theory thus predicts a linear rise and then a
+    plateau; the seed (its Fig. 6, after Alaci et al. 2016) reports a measured run-out
+    distance that rises linearly up to a critical disc speed and decreases beyond it.
 
     Parameters
     ----------
