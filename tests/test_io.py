@@ -176,11 +176,22 @@ def test_sensor_axes_override(tmp_path):
     np.testing.assert_array_equal(rec["Fn"].values, TRUTH["Fx"])
     np.testing.assert_array_equal(rec["Ft"].values, TRUTH["Fz"])
     assert "Fy" not in rec
-    _raises(p, "names no force column", axes={"Fn": "Fq"})
+    _raises(p, "names no column", axes={"Fn": "Fq"})
     with pytest.raises(InputError, match="not a record channel"):
         load(p, axes={"Fz": "Fz"})
     with pytest.raises(InputError, match="two channels"):
         load(p, axes={"Fn": "Fz", "Ft": "Fz"})
+
+
+def test_axes_may_name_any_column(tmp_path):
+    text = "Time (ms);Force Z (kN);Force X (kN);trigger [V]\n0;1,5;0,25;5\n1;2,5;0,5;0\n"
+    p = _write(tmp_path, "vendor.csv", text)
+    _raises(p, "other columns: Force Z, Force X, trigger")
+    rec = load(p, axes={"Fn": "Force Z", "Ft": "-force x"})
+    np.testing.assert_array_equal(rec["Fn"].values, [1500.0, 2500.0])
+    np.testing.assert_array_equal(rec["Ft"].values, [-250.0, -500.0])
+    assert rec.attrs["ignored_columns"] == "trigger [V]"
+    _raises(p, "not a force unit", axes={"Fn": "trigger"})
 
 
 def test_units_from_arguments_and_clashes(tmp_path):
@@ -357,6 +368,9 @@ def test_wpd_single_channel_argument_and_unknown_name(tmp_path):
     np.testing.assert_array_equal(rec["time"].values, [1e-3, 2e-3, 3e-3])
     np.testing.assert_array_equal(rec["Fn"].values, [10, 20, 5])
     _raises(p, "is not a record channel", channels="Fz", time_unit="ms", force_unit="N")
+    same = load(p, channels={"Fn": "curve1"}, time_unit="ms", force_unit="N")
+    np.testing.assert_array_equal(same["Fn"].values, [10, 20, 5])
+    _raises(p, "holds one channel", channels=["Fn", "Ft"], time_unit="ms", force_unit="N")
     with pytest.raises(InputError, match="axes= does not apply"):
         load(p, axes={"Fn": "Fz"}, time_unit="ms", force_unit="N")
     q = _write(tmp_path, "normal_force.csv", "0;1,5\n1;2,5\n")

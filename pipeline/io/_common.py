@@ -213,8 +213,14 @@ def canonical_column(name: str) -> str:
     return FORCE_NAMES.get(key, name)
 
 
-def resolve_axes(columns: dict, axes, p: Path) -> dict:
-    """Record channel → (file column, sign)."""
+def resolve_axes(columns: dict, axes, p: Path, *, others: dict | None = None) -> dict:
+    """Record channel → (file column, sign).
+
+    ``columns`` holds the recognised force columns by canonical name (``Fx``...); ``others``
+    further columns by their name, which ``axes`` may name explicitly (``{"Fn": "Force Z"}``)
+    but the default map never takes.
+    """
+    known = {**(others or {}), **columns}
     available = ", ".join(columns) or "none"
     if axes is not None and not isinstance(axes, dict):
         raise InputError(
@@ -236,12 +242,15 @@ def resolve_axes(columns: dict, axes, p: Path) -> dict:
         spec = spec.strip()
         sign = -1.0 if spec.startswith("-") else 1.0
         col = canonical_column(spec.lstrip("+-").strip())
-        if col not in columns:
-            raise InputError(
-                f"axes[{name!r}] = {spec!r} names no force column of the file "
-                f"(force columns: {available})",
-                path=p,
-            )
+        if col not in known:
+            match = [k for k in known if k.lower() == col.lower()]
+            if len(match) != 1:
+                raise InputError(
+                    f"axes[{name!r}] = {spec!r} names no column of the file "
+                    f"(columns: {', '.join(known) or 'none'})",
+                    path=p,
+                )
+            col = match[0]
         if col in used:
             raise InputError(f"axes maps column {col!r} to two channels", path=p)
         used.add(col)
@@ -258,7 +267,8 @@ def resolve_axes(columns: dict, axes, p: Path) -> dict:
     if "Fn" not in chosen:
         raise InputError(
             f"no normal-force channel: the file has no 'Fn' or 'Fz' column (force columns: "
-            f"{available}); name the normal-force column, e.g. axes={{'Fn': 'Fx'}}",
+            f"{available}; other columns: {', '.join(others or {}) or 'none'}); name the "
+            "normal-force column, e.g. axes={'Fn': 'Fx'}",
             path=p,
         )
     return chosen

@@ -370,7 +370,7 @@ def parse_sensor_bytes(
     sep = _sniff_separator(header, p, header_line)
     dec = _sniff_decimal(body[:4096], sep)
     raw_names = [h.strip().strip('"').strip() for h in header.split(sep)]
-    time_col, force_cols, ignored = None, {}, []
+    time_col, force_cols, other_cols = None, {}, {}
     for j, h in enumerate(raw_names):
         base, unit = split_unit(h)
         canon = canonical_column(base)
@@ -382,8 +382,8 @@ def parse_sensor_bytes(
             if canon in force_cols:
                 raise InputError(f"two {canon} columns", path=p, line=header_line, column=h)
             force_cols[canon] = (j, h, unit)
-        elif h:
-            ignored.append(h)
+        elif h and base not in other_cols:
+            other_cols[base] = (j, h, unit)
     if time_col is None:
         raise InputError(
             f"no time column in the header {header.strip()!r}; name it 'time [s]' (or 't' "
@@ -391,7 +391,10 @@ def parse_sensor_bytes(
             path=p,
             line=header_line,
         )
-    chosen = resolve_axes(force_cols, axes, p)
+    chosen = resolve_axes(force_cols, axes, p, others=other_cols)
+    force_cols = {**other_cols, **force_cols}
+    taken = {col for col, _ in chosen.values()}
+    ignored = [h for key, (_, h, _) in force_cols.items() if key not in taken]
     t_factor, t_unit = resolve_unit("time", time_col[2], time_unit, path=p, column=time_col[1])
     f_factors = {}
     for name, (col, _) in chosen.items():

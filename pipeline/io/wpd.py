@@ -401,6 +401,15 @@ def read_wpd(
         return _digitised_record(
             series, attrs, time_unit=time_unit, force_unit=force_unit, path=p, scene=scene
         )
+    if isinstance(channels, dict | list | tuple):
+        # {"Fn": "..."} or ["Fn"]: the one channel a single-dataset file holds
+        if len(channels) != 1:
+            raise InputError(
+                "a single-dataset export holds one channel: pass channels='Fn' (or 'Ft', "
+                "'Fy'); combine two exports with load({'Fn': fn_path, 'Ft': ft_path}, ...)",
+                path=p,
+            )
+        channels = next(iter(channels))
     return _read_singles(
         [path],
         None if channels is None else [channels],
