@@ -192,14 +192,26 @@ def read_tdms(path, *, time_unit=None, force_unit=None, axes=None, group=None, *
         )
     n = next(iter(lengths.values()))
     if time_ch is not None:
-        try:
-            t_raw = np.asarray(time_ch[:], dtype=float)
-        except (TypeError, ValueError) as exc:
-            raise InputError(f"time channel is not numeric ({exc})", path=p) from exc
-        t_factor, t_unit = resolve_unit(
-            "time", _prop(time_ch, "unit_string"), time_unit, path=p, column=time_ch.name
-        )
         where = f"time channel {time_ch.name!r}"
+        values = np.asarray(time_ch[:])
+        if np.issubdtype(values.dtype, np.datetime64):
+            # absolute timestamps: seconds since the first sample
+            if values.size and np.isnat(values).any():
+                raise InputError(f"the {where} has missing timestamps", path=p)
+            t_raw = (values - values[:1]) / np.timedelta64(1, "ns") * 1e-9
+            if time_unit not in (None, "s"):
+                raise InputError(
+                    f"the {where} holds timestamps; drop time_unit={time_unit!r}", path=p
+                )
+            t_factor, t_unit = 1.0, "s"
+        else:
+            try:
+                t_raw = values.astype(float)
+            except (TypeError, ValueError) as exc:
+                raise InputError(f"time channel is not numeric ({exc})", path=p) from exc
+            t_factor, t_unit = resolve_unit(
+                "time", _prop(time_ch, "unit_string"), time_unit, path=p, column=time_ch.name
+            )
     else:
         tracks = []
         for col, _ in chosen.values():
