@@ -27,9 +27,11 @@ Ox tangential, Oy out of plane)::
 a leading ``-`` flipping the sign, ``None`` dropping the channel, e.g.
 ``axes={"Ft": "-Fx"}`` (Ft opposes the file's +x) or ``axes={"Fn": "Fx", "Ft": "Fz"}``
 (a sensor mounted on its side). Channels not named in ``axes`` keep their default source
-unless that column is already taken by an entry of ``axes``. Other columns (a trigger
-voltage, a moment) are not read; their names are listed in the attribute
-``ignored_columns``.
+unless that column is already taken by an entry of ``axes``. ``axes`` may also name a
+column the default map does not know, by its name without the unit
+(``axes={"Fn": "Force Z", "Ft": "-Force X"}`` for a header ``Force Z (kN);Force X (kN)``).
+Columns not read (a trigger voltage, a moment, an unmapped axis) are listed in the
+attribute ``ignored_columns``.
 
 The table body is parsed by pandas' C parser (no Python loop over rows); only when that
 parse shows a problem does a slower pass locate the exact line and column for the message.
