@@ -31,6 +31,7 @@ bench: $(STAMP)
 
 data: $(STAMP)
 	$(PY) scripts/make_samples.py --out data_samples
+	$(PY) scripts/make_format_samples.py --out data_samples
 
 lint: $(STAMP)
 	$(PY) -m ruff check pipeline tests benchmarks scripts
