@@ -29,7 +29,6 @@ cross-talk of Fn. Files:
 from __future__ import annotations
 
 import argparse
-import math
 import os
 import tempfile
 from pathlib import Path
@@ -53,7 +52,7 @@ SCENE = Scene(
     angle_deg=15.0,
     mu=0.12,
 )
-MU = 0.12
+MU = SCENE.mu
 CROSS_TALK = 0.01
 
 
@@ -190,7 +189,6 @@ def main(argv=None):
         },
     )
     tdms(args.out / "sensor.tdms", impact, rng)
-    assert math.isfinite(impact.F_max)
 
 
 if __name__ == "__main__":
