@@ -1048,8 +1048,10 @@ def impact_outcomes(
     at the default n_steps = 400, for the elastic Hertz and Hunt–Crossley-family laws,
     |Δe_t| < 2e-5 (total rule ≈ 2e-6), |Δe_n| < 1e-6, relative F_max and t_contact < 1e-5;
     e_t errors fall roughly as n_steps⁻² (total rule) and n_steps⁻¹·⁵ (incremental: the
-    stick/slip kinks). Laws whose damping grows as δ^{1/4} at first contact (linear
-    dashpot on Hertz, viscoelastic) are not smooth there and converge more slowly:
+    stick/slip kinks). The error is one of Pt (|ΔPt| ≲ 2e-5·m*·v_n0); e_t = 1 − Pt/(m*·v_t0)
+    magnifies it where v_t0 ≪ v_n0 or the initial slip is mostly spin. Laws whose damping
+    grows as δ^{1/4} at first contact (linear dashpot on Hertz, viscoelastic) are not
+    smooth there and converge more slowly:
     |Δe_n|, |Δe_t| < 1e-4 and relative F_max, t_contact < 5e-4 at n_steps = 400.
     """
     if tangential not in TANGENTIAL_MODELS:

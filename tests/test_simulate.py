@@ -399,3 +399,37 @@ def test_mindlin_incremental_rule_keeps_force_on_unloading():
     )
     np.testing.assert_allclose(a.Ft, [k * 1e-9, 20.0])
     assert a.sliding.tolist() == [False, True]
+
+
+def test_outcome_depends_only_on_dimensionless_groups():
+    """Maw, Barber & Fawcett, Wear 38:101 (1976), doi:10.1016/0043-1648(76)90201-7: for a
+    Hertz contact the oblique outcome depends on tan α/μ, ν (through G*/E*) and κ only —
+    not on speed, size or modulus. Same e_t and ω·R/v_t0 for scenes 100× apart in speed
+    and 20× in size."""
+    base = al_oxide(angle=12.0, e=0.9)
+    out = []
+    for speed, R, E in ((0.1, 1e-3, 380e9), (10.0, 20e-3, 70e9), (3.9, 2.5e-3, 380e9)):
+        sc = base.replace(speed=speed, radius=R, E=E)
+        a = impact(sc, tangential="mindlin", samples=101).attrs
+        out.append((a["e_t"], a["omega"] * R / sc.v_t0, a["e_n"]))
+    np.testing.assert_allclose(out[0], out[1], rtol=1e-6)
+    np.testing.assert_allclose(out[0], out[2], rtol=1e-6)
+
+
+def test_energy_balance_two_free_spheres():
+    """Two free spheres (Chung & Ooi test 1 glass, oblique, Mindlin, damped): kinetic energy
+    in the centre-of-mass frame, ½m*(v_n² + v_t²) + ½I1·ω1² + ½I2·ω2² with ω2 = Pt·R2/I2,
+    falls by the friction plus damping work (to 1e-6, as for one sphere)."""
+    sc = glass_pair(speed=2.0).replace(angle_deg=20.0, mu=0.2, e=0.9)
+    a = impact(sc, tangential="mindlin").attrs
+    m, R = sc.m, sc.radius
+    m_eff, I = m / 2.0, 0.4 * m * R**2
+    E0 = 0.5 * m_eff * sc.speed**2
+    w2 = a["Pt_final"] * R / I
+    E1 = (
+        0.5 * m_eff * ((a["e_n"] * sc.v_n0) ** 2 + (a["e_t"] * sc.v_t0) ** 2)
+        + 0.5 * I * a["omega"] ** 2
+        + 0.5 * I * w2**2
+    )
+    assert E0 - E1 == pytest.approx(a["W_friction"] + a["W_damping"], abs=1e-6 * E0)
+    assert a["omega"] == pytest.approx(w2)  # equal spheres spin up alike
