@@ -403,7 +403,10 @@ def _sensor(record, *, k, false_alarm, guard, max_iter):
     tb, yb = np.median(t[-m:]), np.median(y[-m:])
     slope = (yb - ya) / (tb - ta)
     base = Baseline(float(ya + slope * (t_ref - ta)), float(slope), float(t_ref))
-    outside = np.ones(n, dtype=bool)
+    # the first noise estimate uses the same end samples: a pulse that fills most of a
+    # short record would otherwise inflate the MAD past the pulse itself
+    outside = np.zeros(n, dtype=bool)
+    outside[:m] = outside[-m:] = True
     window = None
     sigma = np.nan
     for _ in range(max_iter):
@@ -430,8 +433,11 @@ def _sensor(record, *, k, false_alarm, guard, max_iter):
         t0, t1 = _ends(t, r, a, b)
         new = (a, b)
         dur = t1 - t0
-        g = guard * dur
-        new_outside = (t < t0 - g) | (t > t1 + g)
+        # the guard margin, shortened on a side whose trigger span is short so that at
+        # least half of that span is still used for the baseline
+        g_left = min(guard * dur, 0.5 * (t0 - t[0]))
+        g_right = min(guard * dur, 0.5 * (t[-1] - t1))
+        new_outside = (t < t0 - g_left) | (t > t1 + g_right)
         left = int(np.count_nonzero(new_outside & (t < t0)))
         right = int(np.count_nonzero(new_outside & (t > t1)))
         if left + right < 8:
