@@ -505,9 +505,13 @@ def impact(
         ``t_contact`` [s], ``F_max`` [N], ``delta_max`` [m], ``rebound_angle_deg`` (centre)
         and ``rebound_angle_contact_deg`` (contact point), ``E_initial``, ``E_final``,
         ``W_friction``, ``W_damping`` [J] (kinetic energies in the centre-of-mass frame
-        of the target surface; W = work dissipated, so E_initial − E_final = W_friction +
-        W_damping), ``damping_param``, ``normal_model``, ``tangential_model``,
-        ``history_rule``, ``tangential_axis_sign`` and the scene fields.
+        of the target surface; W_friction = ∫Ft·s dt, W_damping = ∫(Fn − Kδ^{3/2})·δ̇ dt,
+        so E_initial − E_final = W_friction + W_damping; W_friction can be slightly
+        negative under the total-displacement rule, which is not energy-consistent —
+        :func:`pipeline.contact.mindlin_total`), ``Pn_final``, ``Pt_final`` [N·s],
+        ``damping_param``, ``damping_param_name``, ``normal_model``,
+        ``tangential_model``, ``history_rule``, ``tangential_axis_sign``,
+        ``stick_slip_segments``, the solver settings and the scene fields.
 
     Raises
     ------
