@@ -316,7 +316,9 @@ def noise_level(window, fits, name) -> float:
     The window's baseline estimate where it made one (sensor records); else, for dense
     channels (≥ 50 samples), the robust second-difference estimate
     1.4826·median|Δ²F|/√6 (white noise of σ gives Δ²F of σ√6, the smooth pulse almost
-    nothing); else (sparse, digitised) the RMS residual of the polynomial fit.
+    nothing); else (sparse, digitised) the RMS residual of the GCV smoothing spline,
+    which follows the curve where a low-degree polynomial would leave its misfit in the
+    residuals.
     """
     sigma = float(window.noise.get(name, float("nan")))
     if np.isfinite(sigma):
@@ -324,6 +326,8 @@ def noise_level(window, fits, name) -> float:
     t, f = channel(window.record, name)
     if t.size >= 50:
         return float(1.4826 * np.median(np.abs(np.diff(f, 2))) / np.sqrt(6.0))
+    if t.size >= 5:
+        return float(_fit.fit_spline(t, f, t_start=window.t_start, t_end=window.t_end).rms)
     return float(getattr(fits, name).rms)
 
 

@@ -582,3 +582,199 @@ def fig6_disc_velocity(scene: Scene = None, surface_speeds=None) -> Figure:
 def _kappa_inv_text(kappa):
     """(1+κ)/κ as text (3.5 for a solid sphere)."""
     return f"{(1 + kappa) / kappa:.3g}"
+
+
+# ============================================================== measured records (seed Figs. 8, 9)
+def fig8_forces(analysis) -> Figure:
+    """Seed Fig. 8: the measured forces, their quartic fits and the fits' residuals.
+
+    Parameters
+    ----------
+    analysis : pipeline.analysis.Analysis
+        From :func:`pipeline.analyse`; its window record (baseline removed) gives the
+        samples and its ``fits`` the polynomials.
+
+    Returns
+    -------
+    Figure
+        Top: Fn and Ft samples (markers, gid ``samples-Fn``/``samples-Ft``) and fits
+        (lines, gid ``fit-Fn``/``fit-Ft``) against time [µs] from contact start, the
+        instant of maximum compression dashed. Bottom: residuals [N].
+    """
+    from .record import channel
+
+    a = analysis
+    rec = a.window.record
+    t0 = a.window.t_start
+    with style():
+        fig, (ax, axr) = new_figure(
+            2, 1, width=SINGLE, height=3.9, sharex=True, gridspec_kw={"height_ratios": [2.3, 1.0]}
+        )
+        tt = np.linspace(a.window.t_start, a.window.t_end, 600)
+        cols = {"Fn": COLORS["sliding"], "Ft": COLORS["sticking"]}
+        labels = {"Fn": r"$F_n$", "Ft": r"$F_t$"}
+        every = 1
+        for name in ("Fn", "Ft"):
+            fitc = getattr(a.fits, name)
+            if fitc is None or name not in rec:
+                continue
+            t, f = channel(rec, name)
+            every = max(1, t.size // 80)
+            us = (t - t0) * 1e6
+            ax.plot(
+                us[::every],
+                f[::every],
+                "o",
+                ms=2.2,
+                mfc="none",
+                mew=0.6,
+                color=cols[name],
+                gid=f"samples-{name}",
+                label=f"{labels[name]} data",
+            )
+            ax.plot(
+                (tt - t0) * 1e6,
+                fitc(tt),
+                "-",
+                lw=1.3,
+                color=cols[name],
+                gid=f"fit-{name}",
+                label=f"{labels[name]} degree-{fitc.degree} fit",
+            )
+            axr.plot(us, f - fitc(t), ".", ms=1.5, color=cols[name], gid=f"residual-{name}")
+        tc = (a.split.t_c - t0) * 1e6
+        for axis in (ax, axr):
+            axis.axvline(tc, ls="--", lw=0.8, color=COLORS["construction"])
+            axis.axhline(0.0, lw=0.6, color=COLORS["construction"])
+        ax.text(
+            tc,
+            ax.get_ylim()[1],
+            " max. compression",
+            va="top",
+            ha="left",
+            fontsize=7,
+            color=COLORS["construction"],
+        )
+        ax.set_ylabel("force [N]")
+        axr.set_ylabel("residual [N]")
+        axr.set_xlabel(r"time from contact start [$\mu$s]")
+        ax.legend(loc="center right", fontsize=7)
+        if every > 1:
+            ax.text(
+                0.01,
+                0.02,
+                f"1 in {every} samples shown",
+                transform=ax.transAxes,
+                fontsize=6,
+                color=COLORS["construction"],
+            )
+        panel_label(ax, "(a)")
+        panel_label(axr, "(b)")
+        return fig
+
+
+def fig9_percussion_plane(analysis) -> Figure:
+    """Seed Fig. 9: measured Pt(Pn) over Routh's rigid broken line, phases marked.
+
+    Parameters
+    ----------
+    analysis : pipeline.analysis.Analysis
+
+    Returns
+    -------
+    Figure
+        Pt horizontal, Pn vertical [mN·s] as in the seed. The measured curve from the
+        scored percussions (gid ``measured-compression``/``measured-restitution``), the
+        quartic-fit curve (gid ``measured-fit``), the rigid broken line (gid
+        ``rigid-line``: its vertices are the rigid result's), lines C and T, and the Pt
+        maximum (gid ``Pt-max``).
+    """
+    a = analysis
+    perc, rig = a.percussions, a.rigid
+    k = 1e3  # N·s → mN·s
+    Pn, Pt = perc.Pn(a.source) * k, perc.Pt(a.source) * k
+    comp = Pn <= a.split.Pn_c * k
+    with style():
+        fig, ax = new_figure(width=SINGLE, height=3.8)
+        grey = COLORS["construction"]
+        Pn_f, Pn_c = float(rig.Pn_f) * k, float(rig.Pn_c) * k
+        x_hi = 1.15 * max(np.max(Pt), float(rig.Pt_f) * k, 1e-12)
+        y_hi = 1.12 * max(np.max(Pn), Pn_f)
+        ax.plot([0, x_hi], [Pn_c, Pn_c], "--", lw=0.8, color=grey)
+        ax.plot([0, x_hi], [Pn_f, Pn_f], "-", lw=0.8, color=grey)
+        ax.text(0.99 * x_hi, Pn_c, "(C)", ha="right", va="bottom", color=grey)
+        ax.text(0.99 * x_hi, Pn_f, "(T)", ha="right", va="bottom", color=grey)
+        v = np.asarray(rig.vertices) * k
+        ax.plot(
+            v[:, 0],
+            v[:, 1],
+            "-",
+            lw=2.0,
+            color=COLORS["rigid"],
+            gid="rigid-line",
+            label="rigid body hypothesis",
+            solid_joinstyle="miter",
+        )
+        ax.plot(v[-1, 0], v[-1, 1], "o", ms=4, color=COLORS["rigid"])
+        ax.text(
+            v[-1, 0],
+            v[-1, 1],
+            "E2 " if rig.regime == "sticking" else "E1 ",
+            ha="right",
+            va="bottom",
+            color=COLORS["rigid"],
+        )
+        if rig.regime == "sticking":
+            ax.plot(v[1, 0], v[1, 1], "s", ms=3.5, color=COLORS["rigid"])
+            ax.text(v[1, 0], v[1, 1], "  A", ha="left", va="center", color=COLORS["rigid"])
+        ax.plot(
+            np.where(comp, Pt, np.nan),
+            np.where(comp, Pn, np.nan),
+            "-",
+            lw=1.6,
+            color=COLORS["measured"],
+            gid="measured-compression",
+            label="deformable body (measured): compression",
+        )
+        rest = ~comp
+        rest[max(int(np.count_nonzero(comp)) - 1, 0)] = True  # join the two phases
+        ax.plot(
+            np.where(rest, Pt, np.nan),
+            np.where(rest, Pn, np.nan),
+            "-",
+            lw=1.6,
+            color=COLORS["accent"],
+            gid="measured-restitution",
+            label="deformable body (measured): restitution",
+        )
+        ax.plot(
+            perc.Pt_fit * k,
+            perc.Pn_fit * k,
+            ":",
+            lw=1.1,
+            color=COLORS["fit"],
+            gid="measured-fit",
+            label=f"degree-{a.fits.Ft.degree} fit (seed's method)",
+        )
+        i = int(np.argmax(Pt))
+        ax.plot(Pt[i], Pn[i], "v", ms=5, color=COLORS["accent"], gid="Pt-max", zorder=6)
+        ax.annotate(
+            r"max $P_t$",
+            (Pt[i], Pn[i]),
+            xytext=(-6, 4),
+            textcoords="offset points",
+            ha="right",
+            fontsize=7,
+        )
+        ax.set_xlim(0, x_hi)
+        ax.set_ylim(0, y_hi)
+        ax.set_xlabel(r"tangential percussion $P_t$ [mN$\cdot$s]")
+        ax.set_ylabel(r"normal percussion $P_n$ [mN$\cdot$s]")
+        fig.legend(loc="outside lower center", ncols=2, fontsize=6.5)
+        sc = a.scene
+        ax.set_title(
+            f"{sc.angle_deg:g}°, {sc.speed:g} m/s, μ = {sc.mu:.3f}, "
+            f"e = {sc.e:g}: {rig.regime} (rigid)",
+            fontsize=8,
+        )
+        return fig

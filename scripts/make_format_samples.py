@@ -29,6 +29,7 @@ cross-talk of Fn. Files:
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import tempfile
 from pathlib import Path
@@ -189,6 +190,34 @@ def main(argv=None):
         },
     )
     tdms(args.out / "sensor.tdms", impact, rng)
+    sidecars(args.out)
+
+
+def sidecars(out: Path) -> None:
+    """``<stem>.json`` beside each sample: its scene and the ``load`` arguments it needs.
+
+    ``pipeline.report.reproduce`` reads them (``"load"`` holds keyword arguments of
+    ``pipeline.io.load``; ``"paths"`` combines several files into one record).
+    """
+    scene = {k: (v if np.isfinite(v) else "inf") for k, v in SCENE.to_dict().items()}
+    digitised = {"time_unit": "us", "force_unit": "N"}
+    entries = {
+        "sensor_decimal_comma": {},
+        "sensor": {},
+        "wpd_datasets": digitised,
+        "wpd_Fn": {"paths": {"Fn": "wpd_Fn.csv", "Ft": "wpd_Ft.csv"}, **digitised},
+    }
+    for stem, load in entries.items():
+        side = {
+            "synthetic": True,
+            "note": "format sample; Fn exact elastic Hertz, Ft illustrative "
+            "(see data_samples/README.md)",
+            "generator": "python scripts/make_format_samples.py --out data_samples",
+            "seed": SEED,
+            "scene": scene,
+            "load": load,
+        }
+        atomic_write_text(out / f"{stem}.json", json.dumps(side, indent=1) + "\n")
 
 
 if __name__ == "__main__":
