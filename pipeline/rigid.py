@@ -291,7 +291,7 @@ def sphere_on_plane(scene: Scene, *, target_kappa=None) -> SphereOnPlane:
     Pt_LF = mu * Pn_f
     sliding = (Pt_LF <= Pt_S) & (slip0 != 0)
     Pt_f = np.where(sliding, Pt_LF, Pt_S)
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         Pn_A = np.where(mu > 0, Pt_S / np.where(mu > 0, mu, 1.0), 0.0)
     corner = np.stack([np.where(sliding, np.nan, Pt_S), np.where(sliding, np.nan, Pn_A)], axis=-1)
     beta = np.arctan2(Pt_S, Pn_f)
@@ -301,7 +301,7 @@ def sphere_on_plane(scene: Scene, *, target_kappa=None) -> SphereOnPlane:
     omega = spin + sigma * Pt_f / (kappa * m * R)
     v_n = -v_n0 + Pn_f / m_eff
     slip_f = np.where(sliding, slip0 - sigma * Pt_f / m_t, 0.0)
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         e_t = np.where(v_t0 != 0, v_t / np.where(v_t0 != 0, v_t0, 1.0), np.nan)
     regime = np.where(sliding, "sliding", "sticking")
 
@@ -496,7 +496,8 @@ def planar_impact(W, v_t0, v_n0, mu, e, law="poisson") -> PlanarImpact:
         Initial slip of the contact point along t [m/s]; t points along the initial slip
         (v_t0 ≥ 0). A negative v_t0 is accepted: the t axis is flipped internally.
     v_n0 : float or array
-        Approach speed of the contact point [m/s], > 0.
+        Approach speed of the contact point [m/s], > 0. Wang & Mason's "tangential
+        impact" (v_n0 = 0, jam from sliding) is not covered and raises InputError.
     mu : float or array
         Coulomb friction coefficient [-], ≥ 0.
     e : float or array
@@ -547,14 +548,15 @@ def planar_impact(W, v_t0, v_n0, mu, e, law="poisson") -> PlanarImpact:
     if np.any(~(Wtt > 0)) or np.any(~(Wtt * Wnn - Wtn * Wnt > 0)):
         raise InputError("planar_impact: W must be positive definite (an inverse-mass matrix)")
     v_t0, v_n0, mu, e = _a(v_t0), _a(v_n0), _a(mu), _a(e)
-    for name, x, ok in (
-        ("v_t0", v_t0, np.isfinite(v_t0)),
-        ("v_n0", v_n0, np.isfinite(v_n0) & (v_n0 > 0)),
-        ("mu", mu, np.isfinite(mu) & (mu >= 0)),
-        ("e", e, (e >= 0) & (e <= 1)),
+    for name, x, ok, want in (
+        ("v_t0", v_t0, np.isfinite(v_t0), "a finite slip speed [m/s]"),
+        ("v_n0", v_n0, np.isfinite(v_n0) & (v_n0 > 0), "a positive approach speed [m/s]"),
+        ("mu", mu, np.isfinite(mu) & (mu >= 0), "a friction coefficient μ ≥ 0"),
+        ("e", e, (e >= 0) & (e <= 1), "a restitution coefficient 0 ≤ e ≤ 1"),
     ):
         if not np.all(ok):
-            raise InputError(f"planar_impact: {name} = {x!r} out of range (see the docstring)")
+            bad = np.broadcast_to(x, np.shape(ok))[~np.asarray(ok)][:3].tolist()
+            raise InputError(f"planar_impact: {name} = {bad} is out of range; give {want}")
 
     Wtt, Wtn, Wnt, Wnn, v_t0, v_n0, mu, e = np.broadcast_arrays(
         Wtt, Wtn, Wnt, Wnn, v_t0, v_n0, mu, e
@@ -569,13 +571,13 @@ def planar_impact(W, v_t0, v_n0, mu, e, law="poisson") -> PlanarImpact:
 
     # --- segment 1: forward sliding along LF (b1 = μ); slip stop at Pn_s
     g = Wtn - mu * Wtt  # ds/dPn while sliding forward
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         Pn_s = np.where((vt > 0) & (g < 0), vt / np.where(g < 0, -g, 1.0), np.inf)
     Pn_s = np.where((vt == 0) & stick_ok, 0.0, Pn_s)
     d1 = Wnn - Wnt * mu
     # With d1 > 0 every law ends on segment 1 by Pn = 2·v_n0/d1 at the latest; a slip stop
     # beyond that is never reached (and would only overflow the unused branches below).
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         beyond = (d1 > 0) & (Pn_s > 4.0 * v_n0 / np.where(d1 > 0, d1, 1.0))
     Pn_s = np.where(beyond, np.inf, Pn_s)
     # --- segment 2: sticking or reverse sliding
@@ -589,7 +591,7 @@ def planar_impact(W, v_t0, v_n0, mu, e, law="poisson") -> PlanarImpact:
     def _pn_at(V):
         """Pn where v_n first reaches V ≥ 0 (after compression)."""
         in1 = ~np.isfinite(Pn_s) | (v_s >= V)
-        with np.errstate(divide="ignore", invalid="ignore"):
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             p1 = (V + v_n0) / np.where(d1 > 0, d1, 1.0)
             p2 = (V - c2) / d2
         return np.where(in1, p1, p2)
@@ -639,7 +641,7 @@ def planar_impact(W, v_t0, v_n0, mu, e, law="poisson") -> PlanarImpact:
     # ΔKE = ½·J·(u0 + u_f), J = (−Pt, Pn), u = (s, v_n)
     dKE = 0.5 * (-Pt_f * (vt + s_f) + Pn_f * (-v_n0 + vn_f))
 
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         e_newton = vn_f / v_n0
         e_poisson = np.where(Pn_c > 0, (Pn_f - Pn_c) / np.where(Pn_c > 0, Pn_c, 1.0), np.nan)
         e_energetic = np.where(
