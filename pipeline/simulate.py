@@ -72,6 +72,7 @@ Y. C. Chung, J. Y. Ooi, Granular Matter 13:643 (2011), doi:10.1007/s10035-011-02
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -79,7 +80,7 @@ import xarray as xr
 from scipy import integrate, optimize
 
 from . import contact
-from .errors import InputError
+from .errors import InputError, PipelineWarning
 from .record import make_record
 from .scene import Scene
 from .sensor_model import to_sensor
@@ -1055,8 +1056,11 @@ def impact_outcomes(
     stick/slip kinks). The error is one of Pt (|ΔPt| ≲ 2e-5·m*·v_n0); e_t = 1 − Pt/(m*·v_t0)
     magnifies it where v_t0 ≪ v_n0 or the initial slip is mostly spin. Laws whose damping
     grows as δ^{1/4} at first contact (linear dashpot on Hertz, viscoelastic) are not
-    smooth there and converge more slowly:
-    |Δe_n|, |Δe_t| < 1e-4 and relative F_max, t_contact < 5e-4 at n_steps = 400.
+    smooth there and converge more slowly: at n_steps = 400 and e ≥ 0.05,
+    |Δe_n|, |Δe_t| < 1e-4, relative t_contact < 5e-4 and F_max < 1e-3 (the peak force of
+    a heavily damped dashpot comes right after first contact).
+    Scenes whose damping is too stiff for the explicit fixed step (e.g. an absurd material
+    constant) come back as NaN with a :class:`~pipeline.errors.PipelineWarning`.
     """
     if tangential not in TANGENTIAL_MODELS:
         raise InputError(
@@ -1156,6 +1160,20 @@ def impact_outcomes(
         )
         for k in out:
             out[k][idx] = res["reverses" if k == "reverses" else k]
+    # an explicit fixed step cannot follow a contact whose damping is too stiff for it:
+    # such outcomes are unphysical (e_n outside [0, 1], non-finite) — flag, never return them
+    bad = ~np.isfinite(out["e_n"]) | (out["e_n"] > 1 + 1e-6) | (out["e_n"] < 0)
+    bad |= ~np.isfinite(out["p"]) | ~np.isfinite(out["tau_c"])
+    if np.any(bad):
+        warnings.warn(
+            f"impact_outcomes: {int(bad.sum())} of {bad.size} scenes are too stiffly damped "
+            f"for n_steps = {n_steps} (explicit RK4 unstable); their outcomes are NaN. "
+            "Raise n_steps or use impact() for them.",
+            PipelineWarning,
+            stacklevel=2,
+        )
+        for k in ("e_n", "p", "tau_c", "f_max", "x_max"):
+            out[k] = np.where(bad, np.nan, out[k])
     tstar = dstar / v0
     Pt = out["p"] * m_eff * v0
     vt0s = sign * vt0

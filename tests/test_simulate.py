@@ -14,6 +14,7 @@ import pytest
 from scipy.integrate import trapezoid
 
 from pipeline import InputError, Scene, contact
+from pipeline.errors import PipelineWarning
 from pipeline.simulate import impact, impact_outcomes
 
 
@@ -345,10 +346,10 @@ def test_default_normal_law():
 
 def test_batch_agrees_with_single_impact_for_every_registered_law():
     """The stated error of impact_outcomes for the laws that are not smooth at first
-    contact (δ^1/4 damping): |Δe_n|, |Δe_t| < 1e-4, relative F_max, t_contact < 5e-4."""
+    contact (δ^1/4 damping): |Δe_n|, |Δe_t| < 1e-4, relative t_contact < 5e-4, F_max < 1e-3."""
     angles = np.array([5.0, 15.0, 45.0])
     for law in DAMPED_LAWS:
-        for e in (0.3, 0.9):
+        for e in (0.05, 0.3, 0.9):
             try:
                 contact.NORMAL_LAWS[law].calibrate(e)
             except InputError:
@@ -359,7 +360,7 @@ def test_batch_agrees_with_single_impact_for_every_registered_law():
                 ref = impact(sc.replace(angle_deg=a), normal=law, samples=101).attrs
                 assert out.e_n[i] == pytest.approx(ref["e_n"], abs=1e-4), (law, e, a)
                 assert out.e_t[i] == pytest.approx(ref["e_t"], abs=1e-4), (law, e, a)
-                assert out.F_max[i] == pytest.approx(ref["F_max"], rel=5e-4), (law, e, a)
+                assert out.F_max[i] == pytest.approx(ref["F_max"], rel=1e-3), (law, e, a)
                 assert out.t_contact[i] == pytest.approx(ref["t_contact"], rel=5e-4), (law, e)
 
 
@@ -433,3 +434,14 @@ def test_energy_balance_two_free_spheres():
     )
     assert E0 - E1 == pytest.approx(a["W_friction"] + a["W_damping"], abs=1e-6 * E0)
     assert a["omega"] == pytest.approx(w2)  # equal spheres spin up alike
+
+
+def test_batch_flags_unstable_stiff_damping():
+    """A damping far too stiff for the fixed step (viscoelastic material time A = 0.05 s,
+    ~10⁵× a real one) must not return numbers: NaN plus a PipelineWarning."""
+    if "viscoelastic" not in contact.NORMAL_LAWS:
+        pytest.skip("no viscoelastic law registered")
+    sc = al_oxide(angle=np.array([15.0, 30.0]), e=0.9)
+    with pytest.warns(PipelineWarning, match="too stiffly damped"):
+        out = impact_outcomes(sc, normal="viscoelastic", alpha=0.05)
+    assert np.all(np.isnan(out.e_n)) and np.all(np.isnan(out.e_t))
