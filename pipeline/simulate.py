@@ -218,16 +218,13 @@ def _setup(scene: Scene, normal, alpha=None, param=None, target_kappa=None) -> _
     s0 = vt0 - spin * R1
     sign = -1.0 if s0 < 0 else 1.0
     fscale = hi.m_eff * v0**2 / hi.delta_max
+    # k_t·δ*²/(m*·v0²) = kt_coef·√(δ/δ*), k_t = 8·G*·√(R*·δ) (contact.mindlin_stiffness)
     kt_coef = (
-        (
-            8.0
-            * scene.G_eff
-            * math.sqrt(scene.R_eff * hi.delta_max)
-            * hi.delta_max**2
-            / (hi.m_eff * v0**2)
-        )
-        if tangential_needs_G(scene)
-        else 0.0
+        8.0
+        * scene.G_eff
+        * math.sqrt(scene.R_eff * hi.delta_max)
+        * hi.delta_max**2
+        / (hi.m_eff * v0**2)
     )
     return _Problem(
         law=law,
@@ -262,10 +259,6 @@ def _hc_c(law, p):
     if law.name in _SELF_SIMILAR and np.size(p) == 1:
         return float(np.asarray(p, dtype=float).ravel()[0])
     return None
-
-
-def tangential_needs_G(scene):
-    return scene.E is not None and scene.nu is not None
 
 
 # ----------------------------------------------------------------------------- single
