@@ -140,8 +140,9 @@ def test_bootstrap_std_matches_monte_carlo_spread():
     ideal = impact(scene, tangential="mindlin")
     areas, stds = [], []
     for seed in range(12):
-        rec = to_sensor(ideal, seed=seed, noise=20.0, bits=None, crosstalk=0.0,
-                        rate=20e6, full_scale=np.inf)
+        rec = to_sensor(
+            ideal, seed=seed, noise=20.0, bits=None, crosstalk=0.0, rate=20e6, full_scale=np.inf
+        )
         a = _analyse(rec, scene, n_boot=100, seed=seed)
         areas.append(a.score["Pt_max"])
         stds.append(a.score.std["total"]["Pt_max"])

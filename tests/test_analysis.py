@@ -1,0 +1,150 @@
+"""pipeline.analyse on records with known truth, and make reproduce's core.
+
+Ground truth: the simulator (pipeline.simulate.impact) with a calibrated Hunt–Crossley
+normal law (exact e, PHYSICS.md §4) and Routh's rigid solution (PHYSICS.md §3; seed eqs.
+6–7, doi:10.1051/matecconf/201711207005).
+"""
+
+import json
+import math
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from pipeline import InputError, Scene, analyse
+from pipeline.errors import PoorFitWarning
+from pipeline.report import findings, reproduce, sample_files
+from pipeline.simulate import impact, to_sensor
+
+SAMPLES = Path(__file__).resolve().parent.parent / "data_samples"
+STEEL = dict(
+    radius=0.0127,
+    density=7850.0,
+    E=210e9,
+    nu=0.29,
+    target_E=210e9,
+    target_nu=0.29,
+    target_radius=0.0254,
+)
+
+
+def _analyse(record, scene, **kw):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", PoorFitWarning)
+        return analyse(record, scene, **kw)
+
+
+@pytest.fixture(scope="module")
+def sliding_sensor():
+    """A sliding-regime (tan α > 3.5·μ·(1+e)) Coulomb impact seen through the sensor model."""
+    scene = Scene(speed=0.5, angle_deg=60.0, mu=0.2, e=0.8, **STEEL)
+    rec = to_sensor(impact(scene, tangential="coulomb"), seed=5, crosstalk=0.0)
+    return scene, _analyse(rec, scene, n_boot=50)
+
+
+def test_restitution_and_friction_recovered_through_the_sensor(sliding_sensor):
+    scene, a = sliding_sensor
+    assert a.rigid.regime == "sliding"
+    # Poisson's e of the record vs the simulated e = 0.8 (exact calibration); the
+    # sensor's noise (2 N on a ~1 kN pulse) and baseline removal allow ~0.5 %
+    assert a.split.e_poisson == pytest.approx(0.8, abs=0.004)
+    assert a.split.e_newton == pytest.approx(0.8, abs=0.004)
+    # sliding throughout: Ft = μ·Fn at every instant, so the record's μ is the scene's
+    assert a.mu_record == pytest.approx(0.2, rel=0.02)
+    # the rigid end point E1: Pt_f = μ(1+e)·m·v_n0 (PHYSICS.md §3)
+    assert float(a.rigid.Pt_f) == pytest.approx(
+        0.2 * 1.8 * scene.m * 0.5 * math.cos(math.radians(60.0)), rel=1e-12
+    )
+    assert abs(a.score["area"]) < 0.02 and abs(a.score["end_Pt"]) < 0.02
+
+
+def test_rigid_parameters_from_the_record(sliding_sensor):
+    scene, _ = sliding_sensor
+    rec = to_sensor(impact(scene, tangential="coulomb"), seed=5, crosstalk=0.0)
+    wrong = scene.replace(mu=0.5, e=0.3)  # the user's rigid guesses are off
+    a = _analyse(rec, wrong, mu="record", e="record", n_boot=0)
+    assert a.rigid_scene.mu == pytest.approx(0.2, rel=0.02)
+    assert a.rigid_scene.e == pytest.approx(0.8, abs=0.004)
+    a_bad = _analyse(rec, wrong, n_boot=0)  # the scene's guesses: far from the record
+    assert a_bad.score["max_distance"] > 10 * a.score["max_distance"]
+    with pytest.raises(InputError, match="mu="):
+        _analyse(rec, scene, mu="guess")
+
+
+def test_summary_is_strict_json_and_dataset_round_trips(tmp_path, sliding_sensor):
+    _, a = sliding_sensor
+    from pipeline.report import _clean
+
+    text = json.dumps(_clean(a.summary()), allow_nan=False)
+    back = json.loads(text)
+    assert back["rigid"]["regime"] == "sliding"
+    assert back["score"]["total"]["area"]["value"] == pytest.approx(a.score["area"])
+    ds = a.to_dataset()
+    path = tmp_path / "analysis.nc"
+    ds.to_netcdf(path, engine="h5netcdf")
+    with xr.open_dataset(path, engine="h5netcdf") as back_ds:
+        xr.testing.assert_identical(back_ds.load(), ds)
+    assert ds["Pn_simpson"].attrs["units"] == "N s"
+    assert json.loads(ds.attrs["summary_json"])["split"]["method"] == "momentum"
+
+
+def test_analyse_refuses_a_record_without_a_pulse():
+    scene = Scene(speed=0.5, angle_deg=15.0, mu=0.2, e=0.8, **STEEL)
+    rec = to_sensor(impact(scene, tangential="coulomb"), seed=1)
+    rec = rec.assign(Fn=rec["Fn"] * 0 + np.random.default_rng(0).normal(0, 2, rec.sizes["time"]))
+    with pytest.raises(InputError, match="no contact pulse"):
+        _analyse(rec, scene)
+
+
+def test_bundled_15deg_sample_shows_the_seeds_three_findings():
+    """The synthetic 15° Garland–Rogers-style record (Mindlin tangential compliance)."""
+    path = SAMPLES / "gr_15deg_0.6ms.csv"
+    from pipeline.io import load
+    from pipeline.report import scene_from_sidecar
+
+    a = _analyse(load(path), scene_from_sidecar(path), n_boot=50)
+    f = findings(a)
+    assert f.close_in_compression and f.far_in_restitution and f.Pt_peaks_then_falls
+    # the sidecar's truth: the record's restitution is the simulated e = 0.9
+    truth = json.loads(path.with_suffix(".json").read_text())
+    assert a.split.e_poisson == pytest.approx(truth["outcome"]["e_n"], abs=0.005)
+
+
+def test_reproduce_writes_every_output(tmp_path):
+    out = tmp_path / "reproduce"
+    summary = reproduce(SAMPLES, out, n_boot=20)
+    for name in (
+        "fig4_percussion_plane.png",
+        "fig6_disc_velocity.png",
+        "fig8_forces.png",
+        "fig9_percussion_plane.png",
+        "summary.json",
+        "report.md",
+    ):
+        assert (out / name).stat().st_size > 1000, name
+    on_disk = json.loads((out / "summary.json").read_text())
+    assert on_disk == summary
+    assert len(on_disk["records"]) == len(sample_files(SAMPLES))
+    assert all("error" not in r for r in on_disk["records"])
+    assert all(
+        on_disk["findings"][k]
+        for k in ("close_in_compression", "far_in_restitution", "Pt_peaks_then_falls")
+    )
+    report = (out / "report.md").read_text()
+    assert report.count("**holds**") == 3
+    assert not list(out.glob(".*tmp"))  # atomic writes leave no temporaries
+
+
+def test_reproduce_reports_a_broken_record_and_goes_on(tmp_path):
+    samples = tmp_path / "samples"
+    samples.mkdir()
+    for name in ("gr_15deg_0.6ms.csv", "gr_15deg_0.6ms.json"):
+        (samples / name).write_bytes((SAMPLES / name).read_bytes())
+    (samples / "broken.csv").write_text("time [s],Fz [N]\n0.0,abc\n", encoding="utf-8")
+    summary = reproduce(samples, tmp_path / "out", n_boot=0)
+    bad = [r for r in summary["records"] if r["file"] == "broken.csv"]
+    assert len(bad) == 1 and "broken.csv" in bad[0]["error"] and "line 2" in bad[0]["error"]
+    assert (tmp_path / "out" / "report.md").exists()
