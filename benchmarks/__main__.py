@@ -16,8 +16,9 @@ def main(argv=None):
     parser.add_argument("names", nargs="*", help="benchmark names (bench_<name>.py); all if none")
     args = parser.parse_args(argv)
     args.out.mkdir(parents=True, exist_ok=True)
-    found = sorted(m.name for m in pkgutil.iter_modules(benchmarks.__path__)
-                   if m.name.startswith("bench_"))
+    found = sorted(
+        m.name for m in pkgutil.iter_modules(benchmarks.__path__) if m.name.startswith("bench_")
+    )
     wanted = [n if n.startswith("bench_") else f"bench_{n}" for n in args.names] or found
     for name in wanted:
         module = importlib.import_module(f"benchmarks.{name}")

@@ -16,14 +16,13 @@ Writes ``fit.json`` and ``fit.png`` into the output directory.
 from __future__ import annotations
 
 import json
-import os
-import tempfile
 import time
 from pathlib import Path
 
 import numpy as np
 from numpy.polynomial import legendre as L
 
+from pipeline._atomic import atomic_path, atomic_write_bytes
 from pipeline.fit import fit_polynomial, fit_polynomials_batch
 
 N_RECORDS = 5000
@@ -53,13 +52,6 @@ def _best_of(fn, repeat=3):
         out = fn()
         best = min(best, time.perf_counter() - t0)
     return best, out
-
-
-def _atomic_write(path: Path, data: bytes):
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=path.name, suffix=".tmp")
-    with os.fdopen(fd, "wb") as f:
-        f.write(data)
-    os.replace(tmp, path)
 
 
 def run(out_dir: Path) -> dict:
@@ -136,7 +128,7 @@ def run(out_dir: Path) -> dict:
         "condition_number": {"raw_power_basis_seconds": cond_raw, "legendre_scaled": cond_leg},
         "flagged_poor_fraction": float(batch.poor.mean()),
     }
-    _atomic_write(out_dir / "fit.json", json.dumps(result, indent=2).encode())
+    atomic_write_bytes(out_dir / "fit.json", json.dumps(result, indent=2).encode())
     _plot(out_dir / "fit.png", result, err_b, err_lm, expected)
     return result
 
@@ -171,10 +163,9 @@ def _plot(path: Path, result, err_b, err_lm, expected):
     ax2.set_xlabel("RMS error vs generating polynomial [N]")
     ax2.set_ylabel("records")
     ax2.legend(fontsize=8)
-    buf = path.with_suffix(".tmp.png")
-    fig.savefig(buf, dpi=150)
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=150)
     plt.close(fig)
-    os.replace(buf, path)
 
 
 if __name__ == "__main__":

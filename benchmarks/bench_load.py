@@ -21,6 +21,7 @@ import numpy as np
 import pandas as pd
 
 from pipeline import Scene
+from pipeline._atomic import atomic_path, atomic_write_text
 from pipeline.contact import hertz_impact, hertz_pulse
 from pipeline.io import load, write_sensor
 from pipeline.record import make_record
@@ -84,9 +85,7 @@ def run(out_dir: Path) -> dict:
         "python": platform.python_version(),
         "cpu_count": os.cpu_count(),
     }
-    tmp_json = out_dir / ".load.json.tmp"
-    tmp_json.write_text(json.dumps(result, indent=2) + "\n")
-    os.replace(tmp_json, out_dir / "load.json")
+    atomic_write_text(out_dir / "load.json", json.dumps(result, indent=2) + "\n")
     _plot(result, out_dir / "load.png")
     return result
 
@@ -106,10 +105,9 @@ def _plot(result: dict, path: Path) -> None:
     ax.set_title(f"{result['rows']:,} rows: load / pandas = {result['ratio']:.2f}")
     ax.legend(loc="upper left", fontsize=8)
     fig.tight_layout()
-    tmp = path.with_name(f".{path.name}.tmp.png")
-    fig.savefig(tmp, dpi=120)
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=120)
     plt.close(fig)
-    os.replace(tmp, path)
 
 
 if __name__ == "__main__":

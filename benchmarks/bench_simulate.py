@@ -22,15 +22,14 @@ Writes ``simulate.json`` and ``simulate.png`` into the output directory.
 from __future__ import annotations
 
 import json
-import os
 import platform
-import tempfile
 import time
 from pathlib import Path
 
 import numpy as np
 
 from pipeline import Scene
+from pipeline._atomic import atomic_path, atomic_write_bytes
 from pipeline.simulate import impact, impact_outcomes
 
 ANGLES = (5.0, 10.0, 15.0, 20.0, 30.0, 45.0, 60.0, 80.0)
@@ -61,13 +60,6 @@ def _errors(e_t, F, tc, ref):
         "err_F_max": float(np.max(np.abs(np.asarray(F) / ref["F_max"] - 1.0))),
         "err_t_c": float(np.max(np.abs(np.asarray(tc) / ref["t_c"] - 1.0))),
     }
-
-
-def _atomic_write(path: Path, data: bytes):
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=path.name, suffix=".tmp")
-    with os.fdopen(fd, "wb") as f:
-        f.write(data)
-    os.replace(tmp, path)
 
 
 def run(out_dir: Path) -> dict:
@@ -148,7 +140,7 @@ def run(out_dir: Path) -> dict:
         "reference_values": refs,
         "results": results,
     }
-    _atomic_write(out_dir / "simulate.json", json.dumps(report, indent=2).encode())
+    atomic_write_bytes(out_dir / "simulate.json", json.dumps(report, indent=2).encode())
     _plot(results, out_dir / "simulate.png")
     return report
 
@@ -182,7 +174,6 @@ def _plot(results, path: Path):
         ax.grid(True, which="both", alpha=0.3)
     axes[0].legend(fontsize=7)
     fig.suptitle("pipeline.simulate: speed vs accuracy (Chung & Ooi test 4, 8 angles)")
-    tmp = path.with_suffix(".tmp.png")
-    fig.savefig(tmp, dpi=120)
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=120)
     plt.close(fig)
-    os.replace(tmp, path)

@@ -35,8 +35,6 @@ Figs. 4 and 6. S. Alaci, F. C. Ciornei, C. Filote, J. Balkan Tribol. Assoc. 22(2
 from __future__ import annotations
 
 import math
-import os
-import tempfile
 from contextlib import contextmanager
 from pathlib import Path
 
@@ -45,6 +43,7 @@ import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.patches import Arc
 
+from ._atomic import atomic_path
 from .errors import InputError
 from .rigid import SphereOnPlane, sphere_on_plane
 from .scene import Scene
@@ -140,16 +139,8 @@ def save(fig: Figure, path, **savefig_kw) -> Path:
     The format follows the suffix (``.png``, ``.pdf``, ``.svg``). Returns the path.
     """
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}-", suffix=path.suffix, dir=path.parent)
-    os.close(fd)
-    try:
-        with style():
-            fig.savefig(tmp, format=path.suffix.lstrip(".") or None, **savefig_kw)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+    with atomic_path(path) as tmp, style():
+        fig.savefig(tmp, format=path.suffix.lstrip(".") or None, **savefig_kw)
     return path
 
 

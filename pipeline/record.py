@@ -39,8 +39,14 @@ _LONG_NAMES = {
 }
 
 
-def make_record(time, forces: dict, *, attrs: dict | None = None, measured: dict | None = None,
-                extra: dict | None = None) -> xr.Dataset:
+def make_record(
+    time,
+    forces: dict,
+    *,
+    attrs: dict | None = None,
+    measured: dict | None = None,
+    extra: dict | None = None,
+) -> xr.Dataset:
     """Assemble a record from arrays already in SI units.
 
     Parameters
@@ -66,16 +72,28 @@ def make_record(time, forces: dict, *, attrs: dict | None = None, measured: dict
     for name, values in forces.items():
         if name not in FORCE_CHANNELS:
             raise InputError(f"unknown force channel {name!r}; expected one of {FORCE_CHANNELS}")
-        data_vars[name] = ("time", np.asarray(values, dtype=float),
-                           {"units": "N", "long_name": _LONG_NAMES[name]})
+        data_vars[name] = (
+            "time",
+            np.asarray(values, dtype=float),
+            {"units": "N", "long_name": _LONG_NAMES[name]},
+        )
     for name, mask in (measured or {}).items():
-        data_vars[f"{name}_measured"] = ("time", np.asarray(mask, dtype=bool),
-                                         {"long_name": f"instants at which {name} was digitised"})
+        data_vars[f"{name}_measured"] = (
+            "time",
+            np.asarray(mask, dtype=bool),
+            {"long_name": f"instants at which {name} was digitised"},
+        )
     for name, (values, units, long_name) in (extra or {}).items():
-        data_vars[name] = ("time", np.asarray(values, dtype=float),
-                           {"units": units, "long_name": long_name})
-    ds = xr.Dataset(data_vars, coords={"time": ("time", t, {"units": "s", "long_name": "time"})},
-                    attrs=dict(attrs or {}))
+        data_vars[name] = (
+            "time",
+            np.asarray(values, dtype=float),
+            {"units": units, "long_name": long_name},
+        )
+    ds = xr.Dataset(
+        data_vars,
+        coords={"time": ("time", t, {"units": "s", "long_name": "time"})},
+        attrs=dict(attrs or {}),
+    )
     ds.attrs.setdefault("sha256", "")
     validate(ds)
     return ds

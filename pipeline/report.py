@@ -35,10 +35,10 @@ from pathlib import Path
 import numpy as np
 
 from . import figures
+from ._atomic import atomic_write_text
 from .analysis import Analysis, analyse
 from .errors import InputError, PipelineWarning
 from .io import load
-from .io._common import atomic_write_text
 from .percussion import compression_split, percussions
 from .scene import Scene
 from .window import find_contact

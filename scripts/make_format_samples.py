@@ -30,15 +30,13 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
-import tempfile
 from pathlib import Path
 
 import numpy as np
 
 from pipeline import Scene
+from pipeline._atomic import atomic_path, atomic_write_text
 from pipeline.contact import hertz_impact, hertz_pulse
-from pipeline.io._common import atomic_write_text
 
 SEED = 20261122
 SCENE = Scene(
@@ -149,25 +147,16 @@ def tdms(path, impact, rng):
         "wf_samples": n,
         "wf_xunit_string": "s",
     }
-    path = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    os.close(fd)
-    try:
-        with TdmsWriter(tmp) as writer:
-            writer.write_segment(
-                [
-                    RootObject({"name": "synthetic impact", "author": "make_format_samples.py"}),
-                    GroupObject("Impact", {"description": "25.4 mm steel ball, 0.5 m/s, 15 deg"}),
-                    ChannelObject("Impact", "Fx", ft + noise[0], properties=props),
-                    ChannelObject("Impact", "Fy", fy + noise[1], properties=props),
-                    ChannelObject("Impact", "Fz", fn + noise[2], properties=props),
-                ]
-            )
-        os.chmod(tmp, 0o644)
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
+    with atomic_path(path) as tmp, TdmsWriter(tmp) as writer:
+        writer.write_segment(
+            [
+                RootObject({"name": "synthetic impact", "author": "make_format_samples.py"}),
+                GroupObject("Impact", {"description": "25.4 mm steel ball, 0.5 m/s, 15 deg"}),
+                ChannelObject("Impact", "Fx", ft + noise[0], properties=props),
+                ChannelObject("Impact", "Fy", fy + noise[1], properties=props),
+                ChannelObject("Impact", "Fz", fn + noise[2], properties=props),
+            ]
+        )
 
 
 def main(argv=None):

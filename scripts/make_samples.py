@@ -23,13 +23,10 @@ doi:10.1115/1.3086432 — whose waveforms are not public, so these are SYNTHETIC
 from __future__ import annotations
 
 import argparse
-import contextlib
 import hashlib
 import json
 import math
-import os
 import sys
-import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -37,6 +34,7 @@ import scipy
 
 import pipeline
 from pipeline import Scene
+from pipeline._atomic import atomic_write_text
 from pipeline.contact import hertz_impact
 from pipeline.io import write_sensor
 from pipeline.sensor_model import to_sensor
@@ -130,33 +128,6 @@ def rounded(value, digits: int = TRUTH_DIGITS):
     return value
 
 
-def _umask() -> int:
-    mask = os.umask(0)
-    os.umask(mask)
-    return mask
-
-
-def readable(path: Path) -> None:
-    """Give a file the usual rw-r--r-- (less the umask): mkstemp creates it rw-------."""
-    os.chmod(path, 0o666 & ~_umask())
-
-
-def atomic_write(path: Path, text: str) -> None:
-    """Write text to path atomically (temporary file in the same folder, then os.replace)."""
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="\n") as fh:
-            fh.write(text)
-            fh.flush()
-            os.fsync(fh.fileno())
-        readable(Path(tmp))
-        os.replace(tmp, path)
-    except BaseException:
-        with contextlib.suppress(OSError):
-            os.unlink(tmp)
-        raise
-
-
 def truth_summary(ideal) -> dict:
     """Peaks and final percussions of the ideal (noise-free) record."""
     t = ideal["time"].values
@@ -206,7 +177,6 @@ def make_one(out: Path, name: str, scene: Scene, seed: int) -> dict:
             "pre-trigger [s]": f"{sensor.attrs['sensor_pre_trigger']:g}",
         },
     )
-    readable(csv_path)
     csv_sha = hashlib.sha256(csv_path.read_bytes()).hexdigest()
 
     scene_fields = set(Scene.field_names())
@@ -268,7 +238,7 @@ def make_one(out: Path, name: str, scene: Scene, seed: int) -> dict:
         "sensor_model": "pipeline.sensor_model.to_sensor (defaults SENSOR_DEFAULTS)",
     }
     text = json.dumps(jsonable(sidecar), indent=1, allow_nan=False, sort_keys=False) + "\n"
-    atomic_write(out / json_name, text)
+    atomic_write_text(out / json_name, text)
     return {
         "name": name,
         "rows": int(sensor.sizes["time"]),

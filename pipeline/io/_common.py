@@ -2,18 +2,17 @@
 
 from __future__ import annotations
 
-import contextlib
 import hashlib
 import math
 import numbers
 import os
 import re
-import tempfile
 import threading
 from pathlib import Path
 
 import numpy as np
 
+from .._atomic import atomic_write_text  # noqa: F401  (re-exported)
 from ..errors import InputError, PlaneImpactWarning
 from ..record import FORCE_CHANNELS
 from ..scene import Scene
@@ -162,26 +161,6 @@ def meta_key(key: str) -> str:
     """Attribute name for a metadata key: ``"Sample rate"`` → ``"meta_sample_rate"``."""
     k = _KEY_RE.sub("_", key.strip()).strip("_").lower()
     return f"meta_{k or 'unnamed'}"
-
-
-def atomic_write_text(path, text: str, *, encoding: str = "utf-8", newline: str = "\n") -> Path:
-    """Write ``text`` to ``path`` atomically: a temporary file in the same folder, then
-    :func:`os.replace`. A reader never sees a half-written file."""
-    path = Path(os.fspath(path))
-    directory = path.parent if str(path.parent) else Path(".")
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=directory)
-    try:
-        os.chmod(tmp, 0o644)  # mkstemp makes it 0600; a data file should be readable
-        with os.fdopen(fd, "w", encoding=encoding, newline=newline) as fh:
-            fh.write(text)
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        with contextlib.suppress(OSError):
-            os.unlink(tmp)
-        raise
-    return path
 
 
 def check_plane(forces: dict, path) -> None:
