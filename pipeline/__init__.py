@@ -12,10 +12,32 @@ __version__ = "0.1.0"
 __all__ = ["InputError", "Scene", "analyse", "__version__"]
 
 
-def __getattr__(name):
-    # analyse pulls in the whole chain; import it lazily so `import pipeline` stays light.
-    if name == "analyse":
-        from .analysis import analyse
+_SUBMODULES = {
+    "analysis",
+    "contact",
+    "errors",
+    "figures",
+    "fit",
+    "io",
+    "percussion",
+    "record",
+    "report",
+    "rigid",
+    "scene",
+    "score",
+    "sensor_model",
+    "simulate",
+    "window",
+}
 
-        return analyse
+
+def __getattr__(name):
+    # The stages (and analyse, which pulls in the whole chain) load on first use, so
+    # `import pipeline` stays light and `pipeline.io.load(...)` works after it.
+    import importlib
+
+    if name == "analyse":
+        return importlib.import_module(".analysis", __name__).analyse
+    if name in _SUBMODULES:
+        return importlib.import_module(f".{name}", __name__)
     raise AttributeError(f"module 'pipeline' has no attribute {name!r}")

@@ -188,7 +188,8 @@ def sample_files(samples) -> list[Path]:
 
 
 def _clean(o):
-    """Strict JSON: NaN and inf become None, numpy scalars plain numbers."""
+    """Strict JSON: NaN becomes None, ±inf the strings "inf"/"-inf" (as in the sample
+    sidecars, which :func:`scene_from_sidecar` reads back), numpy scalars plain numbers."""
     if isinstance(o, dict):
         return {str(k): _clean(v) for k, v in o.items()}
     if isinstance(o, (list, tuple)):
@@ -198,7 +199,7 @@ def _clean(o):
     if isinstance(o, np.generic):
         o = o.item()
     if isinstance(o, float) and not math.isfinite(o):
-        return None
+        return None if math.isnan(o) else ("inf" if o > 0 else "-inf")
     return o
 
 

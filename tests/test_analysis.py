@@ -148,3 +148,24 @@ def test_reproduce_reports_a_broken_record_and_goes_on(tmp_path):
     bad = [r for r in summary["records"] if r["file"] == "broken.csv"]
     assert len(bad) == 1 and "broken.csv" in bad[0]["error"] and "line 2" in bad[0]["error"]
     assert (tmp_path / "out" / "report.md").exists()
+
+
+def test_summary_json_keeps_infinite_scene_fields_readable(tmp_path):
+    """A rigid (inf) target survives summary.json and reads back as the same Scene."""
+    from pipeline.report import _clean, scene_from_sidecar
+
+    scene = Scene(
+        speed=0.5, angle_deg=15.0, mu=0.2, e=0.8, radius=0.0127, density=7850.0, E=210e9, nu=0.29
+    )
+    assert scene.target_E == math.inf
+    side = tmp_path / "rec.json"
+    side.write_text(json.dumps(_clean({"scene": scene.to_dict()}), allow_nan=False))
+    assert scene_from_sidecar(tmp_path / "rec.csv") == scene
+
+
+def test_stages_are_reachable_from_the_package():
+    import pipeline
+
+    assert pipeline.io.load is not None and pipeline.rigid.sphere_on_plane is not None
+    with pytest.raises(AttributeError):
+        pipeline.no_such_stage  # noqa: B018
