@@ -566,3 +566,11 @@ def test_tdms_corrupt_and_not_tdms(tmp_path):
     _raises(p, "TDMS")
     q = _write(tmp_path, "fake.tdms", b"time [s],Fz [N]\n0,1\n1,2\n")
     _raises(q, "not a TDMS file")
+
+
+def test_wpd_number_past_float_range_is_refused(tmp_path):
+    """'1e400' overflows to inf: refused like an explicit inf (found by test_io_fuzz)."""
+    p = tmp_path / "Fn.csv"
+    p.write_text("1e400, 5\n2, 20\n1, 10\n4, 1\n", encoding="utf-8")
+    with pytest.raises(InputError, match=r"Fn\.csv, line 1.*infinite"):
+        load(p, time_unit="ms", force_unit="N")

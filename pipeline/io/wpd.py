@@ -113,9 +113,9 @@ def _number(cell: str, dec: str, p: Path, lineno: int, column: str, what: str) -
                 column=column,
             )
         c = c.replace(",", ".")
-    if NUMBER.match(c):
-        return float(c)
-    if NONFINITE.match(c):
+    if NUMBER.match(c) and np.isfinite(value := float(c)):
+        return value
+    if NONFINITE.match(c) or NUMBER.match(c):  # NaN, inf, or a number past float range
         raise InputError(
             f"{what} value {cell.strip()!r} is NaN or infinite; delete or repair this point",
             path=p,
