@@ -18,13 +18,11 @@ file, the line and column where known, and what to do.
 
 from __future__ import annotations
 
-import os
 import re
-from pathlib import Path
 
 from ..errors import InputError
 from ..record import validate
-from ._common import decode, scene_attrs
+from ._common import decode, file_path, scene_attrs
 from .sensor import read_sensor, write_sensor
 from .tdms import read_tdms
 from .wpd import is_datasets_text, read_wpd
@@ -63,12 +61,7 @@ def sniff_format(path) -> str:
         Missing file, a directory, an empty file, undecodable text, or a table of numbers
         without a header (neither format).
     """
-    try:
-        p = Path(os.fspath(path))
-    except TypeError:
-        raise InputError(f"expected a file path, got {path!r}") from None
-    if p.is_dir():
-        raise InputError("is a directory, not a file; give the path of one record file", path=p)
+    p = file_path(path)
     try:
         with open(p, "rb") as fh:
             head = fh.read(_HEAD)

@@ -62,6 +62,17 @@ class BackgroundHash:
         return self._digest
 
 
+def file_path(path) -> Path:
+    """``path`` as a :class:`~pathlib.Path`; InputError for a non-path or a directory."""
+    try:
+        p = Path(os.fspath(path))
+    except TypeError:
+        raise InputError(f"expected a file path, got {path!r}") from None
+    if p.is_dir():
+        raise InputError("is a directory, not a file; give the path of one record file", path=p)
+    return p
+
+
 def read_raw(path, *, background_hash: bool = False) -> tuple[Path, bytes, str]:
     """Read a file's bytes; return ``(path, raw, sha256 hex digest)``.
 
@@ -73,12 +84,7 @@ def read_raw(path, *, background_hash: bool = False) -> tuple[Path, bytes, str]:
     InputError
         Missing file, a directory, or an unreadable file.
     """
-    try:
-        p = Path(os.fspath(path))
-    except TypeError:
-        raise InputError(f"expected a file path, got {path!r}") from None
-    if p.is_dir():
-        raise InputError("is a directory, not a file; give the path of one record file", path=p)
+    p = file_path(path)
     try:
         raw = p.read_bytes()
     except FileNotFoundError:
