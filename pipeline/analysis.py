@@ -249,14 +249,14 @@ def analyse(
             "the rigid broken line",
             path=record.attrs.get("source"),
         )
-    boot = _bootstrap(win, perc, fits, split, n_boot, seed)
+    boot = _bootstrap(win, perc, fits, n_boot, seed)
     score = _score.deviation_score(
         perc.time,
         perc.Pn(source),
         perc.Pt(source),
         rigid,
         split.Pn_c,
-        boot=boot.get(source),
+        boot=_boot_for(split, boot, perc),
         source=source,
     )
     if source == "fit":
@@ -269,7 +269,7 @@ def analyse(
             perc.Pt_fit,
             rigid,
             split_fit.Pn_c,
-            boot=boot.get("fit"),
+            boot=_boot_for(split_fit, boot, perc),
             source="fit",
         )
     options = dict(
@@ -331,13 +331,14 @@ def noise_level(window, fits, name) -> float:
     return float(getattr(fits, name).rms)
 
 
-def _bootstrap(win, perc, fits, split, n_boot, seed) -> dict:
-    """Bootstrap replicates of (Pn, Pt, Pn_c) on the percussion grid, per source.
+def _bootstrap(win, perc, fits, n_boot, seed) -> dict:
+    """Bootstrap replicates ``(Pn, Pt)`` [N·s], each (n_boot, grid), on the percussion grid.
 
     Fit source (residual bootstrap): the polynomial's values plus its resampled residuals,
     re-fitted in one batched least-squares solve. Sample sources (parametric bootstrap):
-    the samples plus white noise of the channel's :func:`noise_level`, integrated directly
-    — the spread of an integral of noisy samples, which is what the score's uncertainty is.
+    the samples plus white noise of the channel's :func:`noise_level`, integrated as
+    :func:`pipeline.percussion.percussions` integrates the samples themselves — the spread
+    of an integral of noisy samples, which is what the score's uncertainty is.
     """
     if n_boot <= 0:
         return {}
@@ -361,24 +362,23 @@ def _bootstrap(win, perc, fits, split, n_boot, seed) -> dict:
         )
         reps["fit"][name] = batch.antiderivative(grid)
         S_b = f + noise_level(win, fits, name) * rng.standard_normal((n_boot, t.size))
-        tp, S_p = t, S_b
-        if ts < t[0]:
-            tp = np.concatenate([[ts], tp])
-            S_p = np.concatenate([np.zeros((n_boot, 1)), S_p], axis=1)
-        if te > t[-1]:
-            tp = np.concatenate([tp, [te]])
-            S_p = np.concatenate([S_p, np.zeros((n_boot, 1))], axis=1)
         for src in ("trapezoid", "simpson"):
-            P = _score.cumulative(tp, S_p, method=src)
-            if tp.size != grid.size or not np.array_equal(tp, grid):
-                P = np.stack([np.interp(grid, tp, row) for row in P])
-            reps[src][name] = P
-    out = {}
-    for src, d in reps.items():
-        Pn_b = d["Fn"]
-        if split.method == "momentum":
-            Pn_c_b = np.full(n_boot, split.Pn_c)
-        else:
-            Pn_c_b = np.trapezoid(Pn_b, grid, axis=-1) / (te - ts)
-        out[src] = (Pn_b, d["Ft"], Pn_c_b)
-    return out
+            reps[src][name] = _perc._raw_on_grid(t, S_b, grid, ts, te, src)
+    return {src: (d["Fn"], d["Ft"]) for src, d in reps.items()}
+
+
+def _boot_for(split, boot, perc) -> tuple | None:
+    """``(Pn_b, Pt_b, Pn_c_b)`` for :func:`pipeline.score.deviation_score`: the replicates of
+    ``split.source`` with maximum compression re-found in each by ``split.method``."""
+    if split.source not in boot:
+        return None
+    Pn_b, Pt_b = boot[split.source]
+    grid = perc.time
+    if split.method == "momentum":  # Pn_c = m*·v_n0 from the scene: fixed
+        Pn_c_b = np.full(Pn_b.shape[0], split.Pn_c)
+    elif split.method == "closure":  # the mean of Pn over the window
+        Pn_c_b = np.trapezoid(Pn_b, grid, axis=-1) / (perc.t_end - perc.t_start)
+    else:  # peak_force: Pn where dPn/dt = Fn peaks
+        i = np.argmax(np.gradient(Pn_b, grid, axis=-1), axis=-1)
+        Pn_c_b = np.take_along_axis(Pn_b, i[:, None], axis=-1)[:, 0]
+    return Pn_b, Pt_b, Pn_c_b

@@ -199,16 +199,10 @@ def cumulative_percussion(
     """
     t = np.asarray(t, dtype=float)
     F = np.asarray(F, dtype=float)
-    t, F = _pad(t, F, t_start, t_end)
-    if method == "trapezoid":
-        P = integrate.cumulative_trapezoid(F, t, initial=0.0)
-    elif method == "simpson":
-        if t.size < 3:
-            P = integrate.cumulative_trapezoid(F, t, initial=0.0)
-        else:
-            P = integrate.cumulative_simpson(F, x=t, initial=0.0)
-    else:
+    if method not in ("trapezoid", "simpson"):
         raise InputError(f"integration method {method!r} is unknown; use 'trapezoid' or 'simpson'")
+    t, F = _pad(t, F, t_start, t_end)
+    P = _cumulative(t, F, method)
     return xr.DataArray(
         P,
         coords={"time": ("time", t, {"units": "s"})},
@@ -219,15 +213,24 @@ def cumulative_percussion(
 
 
 def _pad(t, F, t_start, t_end):
+    """``t`` and ``F`` (..., n) with a sample F = 0 added at a window end outside the samples."""
     span = t[-1] - t[0]
     tiny = 1e-9 * span
+    zero = np.zeros(F.shape[:-1] + (1,))
     if t_start is not None and t_start < t[0] - tiny:
         t = np.concatenate([[t_start], t])
-        F = np.concatenate([[0.0], F])
+        F = np.concatenate([zero, F], axis=-1)
     if t_end is not None and t_end > t[-1] + tiny:
         t = np.concatenate([t, [t_end]])
-        F = np.concatenate([F, [0.0]])
+        F = np.concatenate([F, zero], axis=-1)
     return t, F
+
+
+def _cumulative(t, F, method):
+    """Cumulative integral of F (..., n) on ``t`` along the last axis, zero at t[0]."""
+    if method == "simpson" and t.size >= 3:
+        return integrate.cumulative_simpson(F, x=t, axis=-1, initial=0.0)
+    return integrate.cumulative_trapezoid(F, x=t, axis=-1, initial=0.0)
 
 
 @dataclass(frozen=True, eq=False)
@@ -333,13 +336,19 @@ def _check_source(source):
 
 
 def _raw_on_grid(t, F, grid, t_start, t_end, method):
-    cum = cumulative_percussion(t, F, method=method, t_start=t_start, t_end=t_end)
-    tc, P = cum["time"].values, cum.values
-    if tc.size == grid.size and np.array_equal(tc, grid):
+    """Percussion [N·s] of raw samples F (..., n) at instants ``t``, on the grid ``grid``.
+
+    The samples are padded with F = 0 at the window ends (:func:`_pad`) and integrated
+    cumulatively; a channel sampled off the grid (digitised records) is put on it by linear
+    interpolation, held constant outside the channel's own span.
+    """
+    tp, Fp = _pad(t, np.asarray(F, dtype=float), t_start, t_end)
+    P = _cumulative(tp, Fp, method)
+    if tp.size == grid.size and np.array_equal(tp, grid):
         return P
-    # digitised channels: their own points differ from the grid (linear between points,
-    # held constant outside the channel's span)
-    return np.interp(grid, tc, P)
+    flat = P.reshape(-1, tp.size)
+    out = np.stack([np.interp(grid, tp, row) for row in flat])
+    return out.reshape(P.shape[:-1] + (grid.size,))
 
 
 def percussions(window, fits=None, *, t_start=None, t_end=None) -> Percussions:
@@ -383,7 +392,7 @@ def percussions(window, fits=None, *, t_start=None, t_end=None) -> Percussions:
             )
         )
         fits = fit_window(cw, method="spline")
-    grid, _ = _pad(t_all, t_all, ts, te)
+    grid, _ = _pad(t_all, np.zeros_like(t_all), ts, te)
     out = {}
     for comp, name in (("n", "Fn"), ("t", "Ft")):
         fitc = getattr(fits, name, None)

@@ -38,17 +38,22 @@ Metrics (each also split into the compression phase, Pn ≤ Pn_c, and restitutio
 ``end_Pt``, ``end_Pn``
     Signed end-point errors :math:`(P_{t}(t_e) - P_{t,f}^{rig})/P_{t,ref}` and
     :math:`(P_{n}(t_e) - P_{n,f}^{rig})/P_{ref}` (for a phase: at its end, compared with the
-    rigid line at the same Pn; for compression the normal error is at :math:`P_n = P_{n,c}`
-    and therefore zero by construction).
+    rigid line at the same Pn; the compression phase ends at the last sample with
+    :math:`P_n \le P_{n,c}`, so its normal error is that sample's :math:`(P_n - P_{n,c})/P_{ref}`,
+    zero up to one grid step).
 ``Pt_max``, ``Pn_at_Pt_max``, ``Pt_drop``
     Height :math:`\max P_t / P_{t,ref}` of the measured tangential percussion, where it
     peaks (:math:`P_n / P_{ref}` there) and how far it falls after the peak,
     :math:`(\max P_t - P_t(t_e))/P_{t,ref}`. A rigid ball never lets Pt fall
     (PHYSICS.md §3), so ``Pt_drop > 0`` is the signature of tangential compliance.
 
-Uncertainties come from a seeded residual bootstrap over the fits (:func:`bootstrap_score`):
-fitted values plus resampled residuals are re-fitted in one batched least-squares solve
-and re-scored; the standard deviation over replicates is reported with each metric.
+Uncertainties (:func:`deviation_score` with ``boot=``): the metrics are recomputed on
+seeded bootstrap replicates of the percussions and the standard deviation over the
+replicates is reported with each metric. :func:`pipeline.analyse` makes the replicates: a
+residual bootstrap of the polynomial fits (fitted values plus resampled residuals, re-fitted
+in one batched least-squares solve) for the fit's percussions, a parametric one (the samples
+plus white noise of the estimated level) for the samples' integrals; maximum compression is
+found again in each replicate by the method the record's split used.
 
 References
 ----------
@@ -59,10 +64,9 @@ Fig. 9. B. Efron, R. J. Tibshirani, An Introduction to the Bootstrap, Chapman & 
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
-from scipy import integrate
 
 __all__ = ["METRICS", "PHASES", "DeviationScore", "deviation_metrics", "deviation_score"]
 
@@ -104,7 +108,6 @@ class DeviationScore:
     t_Pt_max: float
     n_boot: int = 0
     source: str = "simpson"
-    meta: dict = field(default_factory=dict)
 
     def __getitem__(self, metric: str) -> float:
         """The whole-impact value of a metric, e.g. ``score["area"]``."""
@@ -262,10 +265,3 @@ def deviation_score(time, Pn, Pt, rigid, Pn_c, *, boot=None, source="simpson") -
         n_boot=n_boot,
         source=source,
     )
-
-
-def cumulative(time, F, method="simpson"):
-    """Cumulative integral of F (..., n) on ``time`` [same units × s], zero at the start."""
-    if method == "simpson":
-        return integrate.cumulative_simpson(F, x=time, axis=-1, initial=0.0)
-    return integrate.cumulative_trapezoid(F, x=time, axis=-1, initial=0.0)

@@ -169,3 +169,33 @@ def test_stages_are_reachable_from_the_package():
     assert pipeline.io.load is not None and pipeline.rigid.sphere_on_plane is not None
     with pytest.raises(AttributeError):
         pipeline.no_such_stage  # noqa: B018
+
+
+def test_bootstrap_refinds_maximum_compression_by_the_split_method():
+    """Each replicate's Pn_c follows the record's split method (closed forms, triangle pulse).
+
+    F rises linearly to Fp at tp, then falls linearly to 0 at T: Pn(tp) = Fp·tp/2 (peak of
+    Fn), and the mean of Pn over [0, T] is Pn(T) − (1/T)∫t·F dt = Fp·(2T − tp)/6 (closure).
+    """
+    from types import SimpleNamespace
+
+    from pipeline.analysis import _boot_for
+
+    T, tp, Fp = 1.0, 0.3, 2.0
+    t = np.linspace(0.0, T, 2001)  # tp = 0.3 is a grid point
+    Pn = np.where(t <= tp, Fp * t**2 / (2 * tp), Fp * T / 2 - Fp * (T - t) ** 2 / (2 * (T - tp)))
+    scale = np.array([0.9, 1.0, 1.1])
+    boot = {"trapezoid": (scale[:, None] * Pn, 0.1 * scale[:, None] * Pn)}
+    perc = SimpleNamespace(time=t, t_start=0.0, t_end=T)
+    expect = {
+        "peak_force": Fp * tp / 2 * scale,
+        "closure": Fp * (2 * T - tp) / 6 * scale,
+        "momentum": np.full(3, 0.42),  # m*·v_n0 from the scene: not resampled
+    }
+    for method, want in expect.items():
+        split = SimpleNamespace(source="trapezoid", method=method, Pn_c=0.42)
+        Pn_b, Pt_b, Pn_c_b = _boot_for(split, boot, perc)
+        assert Pn_b is boot["trapezoid"][0] and Pt_b is boot["trapezoid"][1]
+        np.testing.assert_allclose(Pn_c_b, want, rtol=1e-6, err_msg=method)
+    # no replicates of this source (n_boot = 0): no bootstrap
+    assert _boot_for(SimpleNamespace(source="fit", method="closure", Pn_c=0.4), {}, perc) is None
