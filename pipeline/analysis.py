@@ -17,6 +17,7 @@ beside the primary one, so the cost of the quartic is visible.
 from __future__ import annotations
 
 import json
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -83,36 +84,43 @@ class Analysis:
         return self.window.record
 
     def summary(self) -> dict:
-        """JSON-ready dict of every number (units in key names)."""
+        """JSON-ready dict of every number (units in key names).
+
+        Strict JSON (``json.dumps(..., allow_nan=False)`` works): NaN becomes None and ±inf
+        the strings ``"inf"``/``"-inf"`` (an infinite scene field such as a rigid target's
+        ``target_E`` reads back through :meth:`pipeline.Scene.from_dict` after ``float``).
+        """
         rs = self.rigid
-        return {
-            "source": self.record.attrs.get("source", ""),
-            "sha256": self.record.attrs.get("sha256", ""),
-            "scene": self.scene.to_dict(),
-            "rigid_scene": self.rigid_scene.to_dict(),
-            "options": {k: v for k, v in self.options.items() if _jsonable(v)},
-            "window": self.window.summary(),
-            "fits": {
-                k: getattr(self.fits, k).summary()
-                for k in ("Fn", "Ft")
-                if getattr(self.fits, k) is not None
-            },
-            "percussions": self.percussions.summary(),
-            "split": self.split.summary(),
-            "mu_record": self.mu_record,
-            "rigid": {
-                "regime": str(rs.regime),
-                "beta_rad": float(rs.beta),
-                "Pn_c_Ns": float(rs.Pn_c),
-                "Pn_f_Ns": float(rs.Pn_f),
-                "Pt_f_Ns": float(rs.Pt_f),
-                "Pt_S_Ns": float(rs.Pt_S),
-                "e_t": float(rs.e_t),
-                "omega_rad_per_s": float(rs.omega),
-            },
-            "score": self.score.summary(),
-            "score_fit": self.score_fit.summary(),
-        }
+        return _clean(
+            {
+                "source": self.record.attrs.get("source", ""),
+                "sha256": self.record.attrs.get("sha256", ""),
+                "scene": self.scene.to_dict(),
+                "rigid_scene": self.rigid_scene.to_dict(),
+                "options": {k: v for k, v in self.options.items() if _jsonable(v)},
+                "window": self.window.summary(),
+                "fits": {
+                    k: getattr(self.fits, k).summary()
+                    for k in ("Fn", "Ft")
+                    if getattr(self.fits, k) is not None
+                },
+                "percussions": self.percussions.summary(),
+                "split": self.split.summary(),
+                "mu_record": self.mu_record,
+                "rigid": {
+                    "regime": str(rs.regime),
+                    "beta_rad": float(rs.beta),
+                    "Pn_c_Ns": float(rs.Pn_c),
+                    "Pn_f_Ns": float(rs.Pn_f),
+                    "Pt_f_Ns": float(rs.Pt_f),
+                    "Pt_S_Ns": float(rs.Pt_S),
+                    "e_t": float(rs.e_t),
+                    "omega_rad_per_s": float(rs.omega),
+                },
+                "score": self.score.summary(),
+                "score_fit": self.score_fit.summary(),
+            }
+        )
 
     def to_dataset(self) -> xr.Dataset:
         """Percussions, fitted forces and the rigid line on the percussion grid (netCDF-ready).
@@ -146,7 +154,7 @@ class Analysis:
                 "max_distance": self.score["max_distance"],
                 "Pt_drop": self.score["Pt_drop"],
                 "e_poisson": self.split.e_poisson,
-                "summary_json": json.dumps(self.summary(), default=_json_default),
+                "summary_json": json.dumps(self.summary(), allow_nan=False),
             }
         )
         return ds
@@ -156,12 +164,21 @@ def _jsonable(v):
     return isinstance(v, (int, float, str, bool, type(None)))
 
 
-def _json_default(o):
-    if isinstance(o, np.generic):
-        return o.item()
+def _clean(o):
+    """Strict JSON: NaN becomes None, ±inf the strings "inf"/"-inf" (as in the sample
+    sidecars, which :func:`pipeline.report.scene_from_sidecar` reads back), numpy scalars
+    and arrays plain numbers and lists."""
+    if isinstance(o, dict):
+        return {str(k): _clean(v) for k, v in o.items()}
+    if isinstance(o, (list, tuple)):
+        return [_clean(v) for v in o]
     if isinstance(o, np.ndarray):
-        return o.tolist()
-    raise TypeError(f"not JSON-serialisable: {type(o)}")
+        return _clean(o.tolist())
+    if isinstance(o, np.generic):
+        o = o.item()
+    if isinstance(o, float) and not math.isfinite(o):
+        return None if math.isnan(o) else ("inf" if o > 0 else "-inf")
+    return o
 
 
 def estimate_mu(window, t_c: float, *, level: float = 0.3) -> float:

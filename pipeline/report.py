@@ -36,7 +36,7 @@ import numpy as np
 
 from . import figures
 from ._atomic import atomic_write_text
-from .analysis import Analysis, analyse
+from .analysis import Analysis, _clean, analyse
 from .errors import InputError, PipelineWarning
 from .io import load
 from .percussion import compression_split, percussions
@@ -185,22 +185,6 @@ def sample_files(samples) -> list[Path]:
         paths = read_sidecar(p).get("load", {}).get("paths", {})
         parts |= {q for q in paths.values() if q != p.name}
     return [p for p in files if p.name not in parts]
-
-
-def _clean(o):
-    """Strict JSON: NaN becomes None, ±inf the strings "inf"/"-inf" (as in the sample
-    sidecars, which :func:`scene_from_sidecar` reads back), numpy scalars plain numbers."""
-    if isinstance(o, dict):
-        return {str(k): _clean(v) for k, v in o.items()}
-    if isinstance(o, (list, tuple)):
-        return [_clean(v) for v in o]
-    if isinstance(o, np.ndarray):
-        return _clean(o.tolist())
-    if isinstance(o, np.generic):
-        o = o.item()
-    if isinstance(o, float) and not math.isfinite(o):
-        return None if math.isnan(o) else ("inf" if o > 0 else "-inf")
-    return o
 
 
 def _quiet(fn, *args, **kwargs):

@@ -76,11 +76,12 @@ def test_rigid_parameters_from_the_record(sliding_sensor):
 
 def test_summary_is_strict_json_and_dataset_round_trips(tmp_path, sliding_sensor):
     _, a = sliding_sensor
-    from pipeline.report import _clean
-
-    text = json.dumps(_clean(a.summary()), allow_nan=False)
+    # API.md: .summary() is JSON-ready as it stands (strict JSON: no NaN, no Infinity)
+    text = json.dumps(a.summary(), allow_nan=False)
     back = json.loads(text)
     assert back["rigid"]["regime"] == "sliding"
+    assert back["scene"]["target_mass"] == "inf"  # a fixed target, readable by Scene
+    assert Scene.from_dict({k: float(v) for k, v in back["scene"].items()}) == a.scene
     assert back["score"]["total"]["area"]["value"] == pytest.approx(a.score["area"])
     ds = a.to_dataset()
     path = tmp_path / "analysis.nc"
