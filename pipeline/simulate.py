@@ -499,8 +499,10 @@ def impact(
         ``t_contact`` [s], ``F_max`` [N], ``delta_max`` [m], ``rebound_angle_deg`` (centre)
         and ``rebound_angle_contact_deg`` (contact point), ``E_initial``, ``E_final``,
         ``W_friction``, ``W_damping`` [J] (kinetic energies in the centre-of-mass frame
-        of the target surface; W_friction = ∫Ft·s dt, W_damping = ∫(Fn − Kδ^{3/2})·δ̇ dt,
-        so E_initial − E_final = W_friction + W_damping; W_friction can be slightly
+        of the target surface; W_friction = ∫Ft·s dt, W_damping = ∫(Fn − Kδ^{3/2})·δ̇ dt
+        + (2/5)·K·δ_sep^{5/2}, the last term the elastic energy a law that lets go at
+        δ_sep > 0 leaves in the contact (dashpot, viscoelastic; zero for the Hunt–Crossley
+        family), so E_initial − E_final = W_friction + W_damping; W_friction can be slightly
         negative under the total-displacement rule, which is not energy-consistent —
         :func:`pipeline.contact.mindlin_total`), ``Pn_final``, ``Pt_final`` [N·s],
         ``damping_param``, ``damping_param_name``, ``normal_model``,
@@ -627,7 +629,10 @@ def impact(
             )
             for k, v in extra.items()
         }
-    W_d = y_end[4] * m * v0**2
+    # a law that lets go at δ > 0 (dashpot, viscoelastic) strands the elastic energy
+    # (2/5)·K·δ^{5/2} in the contact: the clipped force never returns it, so it is lost
+    x_sep = max(float(y_end[0]), 0.0)
+    W_d = (y_end[4] + 0.4 * pb.kel * x_sep**2.5) * m * v0**2
     W_f = y_end[5] * m * v0**2
     attrs = {
         "source": f"pipeline.simulate.impact normal={normal_name} tangential={tangential}"
