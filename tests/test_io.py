@@ -560,6 +560,39 @@ def test_tdms_bad_input(tmp_path, channels, fragment):
     _raises(p, fragment)
 
 
+def test_tdms_unit_in_channel_name(tmp_path):
+    """'Fz (kN)' without unit_string is kilonewtons (it was read as whatever force_unit=
+    said); a name and a unit_string that disagree are refused."""
+    p = _tdms(tmp_path / "named.tdms", [("Fz (kN)", [1.0, 2.0, 3.0], WF)])
+    rec = load(p)
+    np.testing.assert_allclose(rec["Fn"].values, [1e3, 2e3, 3e3], rtol=1e-15)
+    assert rec.attrs["source_force_unit"] == "kN"
+    _raises(p, "units in the file win", force_unit="N")
+    q = _tdms(tmp_path / "clash.tdms", [("Fz (kN)", [1.0, 2.0, 3.0], {**WF, "unit_string": "N"})])
+    _raises(q, "unit_string property says 'N'")
+    # a parenthesis that is no unit is a label: the property decides
+    r = _tdms(tmp_path / "label.tdms", [("Fz (raw)", [1.0, 2.0, 3.0], {**WF, "unit_string": "N"})])
+    np.testing.assert_array_equal(load(r)["Fn"].values, [1.0, 2.0, 3.0])
+
+
+def test_tdms_duplicate_force_channel_and_temperature_channel(tmp_path):
+    two = [
+        ("Fz", [1.0, 2.0, 3.0], {"unit_string": "N", **WF}),
+        ("Fz (raw)", [7.0, 8.0, 9.0], {"unit_string": "N", **WF}),
+    ]
+    _raises(_tdms(tmp_path / "two.tdms", two), "'Fz' and 'Fz (raw)'")  # was: last one won
+    temp = [
+        ("time", [0.0, 1.0, 2.0], {"unit_string": "ms"}),
+        ("T", [20.0, 21.0, 22.0], {"unit_string": "degC"}),  # a temperature, not time
+        ("Fz", [1.0, 2.0, 3.0], {"unit_string": "N"}),
+    ]
+    rec = load(_tdms(tmp_path / "temp.tdms", temp))
+    np.testing.assert_allclose(rec["time"].values, [0.0, 1e-3, 2e-3], rtol=1e-15)
+    times = [("time", [0.0, 1.0, 2.0], {"unit_string": "s"}), *temp[1:]]
+    times[1] = ("t", [0.0, 1.0, 2.0], {"unit_string": "ms"})
+    _raises(_tdms(tmp_path / "times.tdms", times), "several time channels")
+
+
 def test_tdms_corrupt_and_not_tdms(tmp_path):
     good = (SAMPLES / "sensor.tdms").read_bytes()
     p = _write(tmp_path, "cut.tdms", good[: len(good) // 2])

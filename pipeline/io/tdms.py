@@ -9,8 +9,12 @@ Time: a channel named ``time`` (or ``t``) in the group when there is one (unit f
 ``unit_string`` property); otherwise the waveform properties of the force channels —
 ``wf_start_offset`` + k·``wf_increment`` for k < ``wf_samples`` (npTDMS's
 ``channel.time_track()``), in ``wf_xunit_string`` (NI's default: seconds). All force
-channels must share one time track. Force units come from each channel's ``unit_string``
-property; ``force_unit=`` supplies one where the file has none.
+channels must share one time track. Units come from each channel's ``unit_string``
+property, or else from a unit in its name (``Fz (kN)``; a name and a property that disagree
+are an error); ``force_unit=``/``time_unit=`` supply one where the file has none. Two
+channels that read as the same force (``Fz`` and ``Fz (raw)``) are an error; among several
+time-named channels, one whose unit is not a time unit (a temperature ``T`` in degC) is
+not the time track.
 """
 
 from __future__ import annotations
@@ -31,7 +35,7 @@ from ._common import (
     resolve_axes,
     scene_attrs,
 )
-from .units import resolve_unit, split_unit
+from .units import force_factor, resolve_unit, split_unit, time_factor
 
 __all__ = ["read_tdms"]
 
@@ -100,17 +104,63 @@ class _Collect(logging.Handler):
             self.messages.append(record.getMessage())
 
 
-def _columns(group):
-    """``{canonical name: channel}`` and the time channel (or None) of a group."""
-    forces, time = {}, None
+def _columns(group, p):
+    """``{canonical name: channel}`` and the time channel (or None) of a group.
+
+    Two channels for one force (``Fz`` and ``Fz (raw)``) are an error, not a silent pick.
+    Among several time-named channels, one whose unit is not a time unit (a temperature
+    ``T`` in degC) is not the time track.
+    """
+    forces, times = {}, []
     for ch in group.channels():
         base, _ = split_unit(ch.name)
         canon = canonical_column(base)
         if canon == "time":
-            time = ch
+            times.append(ch)
         elif canon in FORCE_COLUMNS:
+            if canon in forces:
+                raise InputError(
+                    f"channels {forces[canon].name!r} and {ch.name!r} of group {group.name!r} "
+                    f"both read as {canon}; rename one of them or export only one",
+                    path=p,
+                )
             forces[canon] = ch
-    return forces, time
+    if len(times) > 1:
+        times = [ch for ch in times if _is_time_track(ch)] or times
+    if len(times) > 1:
+        raise InputError(
+            f"several time channels in group {group.name!r} "
+            f"({', '.join(repr(ch.name) for ch in times)}); keep one",
+            path=p,
+        )
+    return forces, (times[0] if times else None)
+
+
+def _is_time_track(ch) -> bool:
+    """A timestamp channel, or one whose unit (if any) is a time unit."""
+    if np.issubdtype(ch.dtype, np.datetime64):
+        return True
+    unit = _unit(ch, "time")
+    return unit is None or time_factor(unit) is not None
+
+
+def _unit(ch, kind, p=None):
+    """Unit of a channel: its ``unit_string`` property, else a unit in its name
+    (``Fz (kN)``) when that is a recognised ``kind`` unit; a clash between the two is an
+    InputError (when ``p`` is given)."""
+    factor_of = time_factor if kind == "time" else force_factor
+    prop = _prop(ch, "unit_string") or None
+    _, named = split_unit(ch.name)
+    if named is not None and factor_of(named) is None:
+        named = None  # "Fz (raw)": a label, not a unit
+    if p is not None and prop and named and factor_of(prop) not in (None, factor_of(named)):
+        raise InputError(
+            f"the channel name gives {kind} in {named!r} but its unit_string property says "
+            f"{prop!r}; correct one of them",
+            path=p,
+            column=ch.name,
+        )
+    return prop or named
 
 
 def _prop(ch, name, default=None):
@@ -153,7 +203,9 @@ def read_tdms(path, *, time_unit=None, force_unit=None, axes=None, group=None, *
     tdms = _open(raw, p)
     try:
         groups = tdms.groups()
-        candidates = [(g, *_columns(g)) for g in groups]
+        candidates = [(g, *_columns(g, p)) for g in groups]
+    except InputError:
+        raise
     except Exception as exc:
         raise InputError(f"cannot list the TDMS channels ({exc})", path=p) from exc
     listing = (
@@ -210,7 +262,7 @@ def read_tdms(path, *, time_unit=None, force_unit=None, axes=None, group=None, *
             except (TypeError, ValueError) as exc:
                 raise InputError(f"time channel is not numeric ({exc})", path=p) from exc
             t_factor, t_unit = resolve_unit(
-                "time", _prop(time_ch, "unit_string"), time_unit, path=p, column=time_ch.name
+                "time", _unit(time_ch, "time", p), time_unit, path=p, column=time_ch.name
             )
     else:
         tracks = []
@@ -266,7 +318,7 @@ def read_tdms(path, *, time_unit=None, force_unit=None, axes=None, group=None, *
     for name, (col, sign) in chosen.items():
         ch = force_chs[col]
         factor, unit = resolve_unit(
-            "force", _prop(ch, "unit_string") or None, force_unit, path=p, column=ch.name
+            "force", _unit(ch, "force", p), force_unit, path=p, column=ch.name
         )
         units.add(unit)
         values = data[col]
