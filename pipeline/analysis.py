@@ -243,16 +243,28 @@ def analyse(
     Returns
     -------
     Analysis
+
+    Raises
+    ------
+    InputError
+        No Scene, a record without an ``Ft`` channel, an unknown ``source``, or any stage's
+        bad-input error (no contact pulse, too few samples, ...).
     """
     if not isinstance(scene, Scene):
         raise InputError("analyse needs a pipeline.Scene describing the impact")
+    if source != "auto" and source not in _perc.SOURCES:
+        raise InputError(f"source {source!r} is unknown; use 'auto' or one of {_perc.SOURCES}")
+    if "Ft" not in record:
+        raise InputError(
+            "the record has no tangential channel Ft: nothing to score against "
+            "the rigid broken line (pipeline.percussion still gives Pn and e)",
+            path=record.attrs.get("source"),
+        )
     win = _window.find_contact(record, **(window_options or {}))
     fits = _fit.fit_window(win, method="polynomial", degree=degree, end_constraints=end_constraints)
-    n_min = min(channel(win.record, c)[0].size for c in ("Fn", "Ft") if c in win.record)
+    n_min = min(channel(win.record, c)[0].size for c in ("Fn", "Ft"))
     if source == "auto":
         source = "simpson" if n_min >= MIN_SAMPLES else "fit"
-    if source not in _perc.SOURCES:
-        raise InputError(f"source {source!r} is unknown; use 'auto' or one of {_perc.SOURCES}")
     perc = _perc.percussions(win, fits)
     split = _perc.compression_split(perc, scene, method=split_method, source=source)
     mu_rec = estimate_mu(win, split.t_c)
@@ -260,12 +272,6 @@ def analyse(
         mu=_choose(mu, scene.mu, mu_rec, "mu"), e=_choose(e, scene.e, split.e_poisson, "e")
     )
     rigid = _rigid.sphere_on_plane(rigid_scene)
-    if perc.Pt_fit is None:
-        raise InputError(
-            "the record has no tangential channel Ft: nothing to score against "
-            "the rigid broken line",
-            path=record.attrs.get("source"),
-        )
     boot = _bootstrap(win, perc, fits, n_boot, seed)
     score = _score.deviation_score(
         perc.time,

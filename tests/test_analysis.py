@@ -200,3 +200,14 @@ def test_bootstrap_refinds_maximum_compression_by_the_split_method():
         np.testing.assert_allclose(Pn_c_b, want, rtol=1e-6, err_msg=method)
     # no replicates of this source (n_boot = 0): no bootstrap
     assert _boot_for(SimpleNamespace(source="fit", method="closure", Pn_c=0.4), {}, perc) is None
+
+
+def test_record_without_Ft_is_refused_up_front():
+    scene = Scene(speed=0.5, angle_deg=15.0, mu=0.2, e=0.8, **STEEL)
+    rec = impact(scene, tangential="coulomb").drop_vars("Ft")
+    # the missing channel is named even when μ was to come from the record
+    for mu in ("scene", "record"):
+        with pytest.raises(InputError, match="no tangential channel Ft"):
+            _analyse(rec, scene, mu=mu)
+    with pytest.raises(InputError, match="source 'quartic' is unknown"):
+        _analyse(impact(scene, tangential="coulomb"), scene, source="quartic")
