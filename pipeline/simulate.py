@@ -20,7 +20,10 @@ positive in the sense a positive :math:`F_t` produces (Pt > 0 spins the ball up)
 fixed target (``target_mass = inf``) :math:`m^* = m`, :math:`m_t = m\kappa/(1+\kappa)`
 and :math:`s(P_t) = v_{t0} - (1 + 1/\kappa)P_t/m` (PHYSICS.md §1). For two free spheres
 the normal problem uses :math:`m^* = m_1 m_2/(m_1 + m_2)` and the slip uses :math:`m_t`
-above (the second sphere's κ is ``target_kappa``, default the ball's).
+above (the second sphere's κ is ``target_kappa``, default the ball's). A movable flat
+target (finite ``target_mass``, infinite ``target_radius``) is refused, as by
+:func:`pipeline.rigid.sphere_on_plane`: its rotational term depends on where its centre of
+mass lies, which the scene does not say.
 
 The tangential axis points along the initial slip :math:`s_0 = v_{t0} - \omega_0 R`: if a
 spin or a surface speed makes :math:`s_0 < 0`, every tangential output (``Ft``, ``slip``,
@@ -186,9 +189,21 @@ def _param(law, e, K, m_eff, v0, alpha=None, param=None):
     return law.calibrate(e)
 
 
+def _check_target(scene: Scene):
+    """Refuse a movable flat target, as :func:`pipeline.rigid.sphere_on_plane` does."""
+    if np.any(np.isfinite(np.asarray(scene.target_mass)) & np.isinf(scene.target_radius)):
+        raise InputError(
+            "a movable flat target (finite target_mass, target_radius = inf) is not a scene "
+            "the simulator can take: its tangential inverse mass depends on where its centre "
+            "of mass lies, which the scene does not say. Give target_radius for a free "
+            "sphere, or leave target_mass = inf for a fixed target"
+        )
+
+
 def _setup(scene: Scene, normal, alpha=None, param=None, target_kappa=None) -> _Problem:
     if not isinstance(scene, Scene):
         raise InputError("impact() needs a pipeline.Scene")
+    _check_target(scene)
     for name in Scene.field_names():
         v = getattr(scene, name)
         if isinstance(v, np.ndarray) and v.size != 1:
@@ -1070,6 +1085,7 @@ def impact_outcomes(
         raise InputError("n_steps must be at least 4")
     n_steps = int(n_steps)
     sc = _stack_scenes(scenes)
+    _check_target(sc)
     hi = contact.hertz_impact(sc)
     arrs = np.broadcast_arrays(
         *(

@@ -356,6 +356,17 @@ def test_unknown_models_are_refused():
         impact(al_oxide(), history="bogus")
 
 
+def test_movable_flat_target_is_refused():
+    """A finite target_mass on a flat target has no defined tangential inverse mass (its
+    rotation term depends on the unknown position of its centre of mass): both paths refuse
+    it, as pipeline.rigid.sphere_on_plane does, instead of assuming a sphere's κ."""
+    sc = al_oxide(angle=20.0, e=0.9).replace(target_mass=1e-3, target_E=380e9, target_nu=0.23)
+    with pytest.raises(InputError, match="movable flat target"):
+        impact(sc)
+    with pytest.raises(InputError, match="movable flat target"):
+        impact_outcomes([sc, sc.replace(angle_deg=30.0)])
+
+
 def test_array_scene_is_refused_by_single_path():
     with pytest.raises(InputError, match="impact_outcomes"):
         impact(al_oxide(angle=np.array([10.0, 20.0])))
