@@ -74,10 +74,14 @@ class Scene:
     kappa : float
         I/(m·R²) [-]; 0.4 for a solid sphere.
     spin : float
-        Spin before impact [rad/s], positive in the sense a positive Pt produces.
+        Spin before impact [rad/s] on the scene's tangential axis t (the direction of
+        v·sin α): positive in the sense a friction force opposing a slip along +t produces,
+        so the contact point slips at ``slip0`` = v_t0 − spin·R. (Results are reported on
+        the axis of the initial slip, which is −t when ``slip0`` < 0: see
+        :mod:`pipeline.simulate`.)
     surface_speed : float
-        Tangential speed of the target surface along the ball's slip direction [m/s]
-        (the seed's rotating-disc rig).
+        Tangential speed of the target surface along +t [m/s] (the seed's rotating-disc
+        rig); v_t0 = v·sin α − surface_speed.
     """
 
     radius: float

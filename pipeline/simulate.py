@@ -27,8 +27,14 @@ mass lies, which the scene does not say.
 
 The tangential axis points along the initial slip :math:`s_0 = v_{t0} - \omega_0 R`: if a
 spin or a surface speed makes :math:`s_0 < 0`, every tangential output (``Ft``, ``slip``,
-``vt``, ``spin``, ``omega``) is reported on the flipped axis so that ``Ft > 0`` still
-opposes the initial slip (``attrs["tangential_axis_sign"] = -1``).
+``vt``, ``spin``, ``omega``, ``Pt_final``) is reported on the flipped axis so that
+``Ft > 0`` still opposes the initial slip (``attrs["tangential_axis_sign"] = -1``). This is
+the convention API.md and PHYSICS.md §1 fix for the outputs: ``Pt > 0`` opposes the
+INITIAL slip and ``omega`` is positive in the sense ``Pt > 0`` produces, so
+:math:`\omega = \sigma\omega_0 + P_t R/I` with :math:`\sigma` = ``tangential_axis_sign``.
+The scene's own inputs (``spin``, ``surface_speed``, the sense of :math:`v\sin\alpha`) are
+on the scene's axis; multiply a reported value by σ to return to it. ``e_t`` is the same
+on either axis; the rebound angles are measured on the scene's axis.
 
 Equations are integrated in dimensionless form: δ/δ_max, t/t* with δ_max the elastic
 Hertz maximum approach and t* = δ_max/v_n0 (:func:`pipeline.contact.hertz_impact`),
@@ -510,8 +516,9 @@ def impact(
         Record (:mod:`pipeline.record`, kind ``"simulated"``) with ``Fn``, ``Ft`` [N] and
         ``delta`` [m], ``slip`` [m/s], ``vt`` [m/s], ``spin`` [rad/s] (and ``xi`` [m], the
         elastic tangential displacement Ft/k_t, for Mindlin); ``attrs``: ``e_n``, ``e_t``
-        (tangential velocity of the centre after/before), ``omega`` [rad/s],
-        ``t_contact`` [s], ``F_max`` [N], ``delta_max`` [m], ``rebound_angle_deg`` (centre)
+        (tangential velocity of the centre after/before), ``omega`` [rad/s] (spin after
+        impact, positive in the sense Pt > 0 produces: on the initial-slip axis, module
+        notes), ``t_contact`` [s], ``F_max`` [N], ``delta_max`` [m], ``rebound_angle_deg`` (centre)
         and ``rebound_angle_contact_deg`` (contact point), ``E_initial``, ``E_final``,
         ``W_friction``, ``W_damping`` [J] (kinetic energies in the centre-of-mass frame
         of the target surface; W_friction = ∫Ft·s dt, W_damping = ∫(Fn − Kδ^{3/2})·δ̇ dt

@@ -296,6 +296,38 @@ def test_surface_speed_reverses_the_tangential_axis():
     # relative slip −v_t0 is as large as before, so sliding throughout: e_t as for +v_t0
     ref = impact(sc, tangential="coulomb").attrs["e_t"]
     assert rec.attrs["e_t"] == pytest.approx(ref, rel=1e-9)
+    # omega > 0 in the sense Pt > 0 produces (API.md): Pt = μ(1+e)·m·v_n0 (E1, PHYSICS.md §3)
+    m, I = sc.m, sc.kappa * sc.m * sc.radius**2
+    Pt = sc.mu * (1 + sc.e) * m * sc.v_n0
+    assert rec.attrs["Pt_final"] == pytest.approx(Pt, rel=1e-6)
+    assert rec.attrs["omega"] == pytest.approx(Pt * sc.radius / I, rel=1e-6)
+
+
+def test_spin_against_the_slip_reports_on_the_initial_slip_axis():
+    """Topspin larger than v_t0/R: the contact point slips backwards, s0 = v_t0 − ω0·R < 0,
+    although v_t0 > 0. PHYSICS.md §1 / API.md: Pt > 0 opposes the INITIAL slip, omega is
+    positive in the sense Pt > 0 produces, so on that axis ω = −ω0 + Pt·R/I. Sticking
+    (μ(1+e)·v_n0 > (2/7)·|s0|, PHYSICS.md §3): Pt = (2/7)·m·|s0|, the contact point stops
+    (v_t − ω·R = 0 on either axis), and the centre speeds up: e_t = 1 + (2/7)·|s0|/v_t0."""
+    sc = Scene(
+        radius=2.5e-3, density=4000.0, E=380e11, nu=0.23, speed=3.9, angle_deg=20.0, mu=0.5, e=0.9
+    )
+    sc = sc.replace(spin=3.0 * sc.v_t0 / sc.radius)  # s0 = −2·v_t0
+    s0 = sc.v_t0 - sc.spin * sc.radius
+    assert s0 < 0 and sc.mu * (1 + sc.e) * sc.v_n0 > 2.0 / 7.0 * abs(s0)
+    rec = impact(sc, tangential="coulomb")
+    a = rec.attrs
+    m, R = sc.m, sc.radius
+    I = 0.4 * m * R**2
+    Pt = 2.0 / 7.0 * m * abs(s0)
+    assert a["tangential_axis_sign"] == -1.0
+    assert a["Pt_final"] == pytest.approx(Pt, rel=1e-7)
+    assert a["omega"] == pytest.approx(-sc.spin + Pt * R / I, rel=1e-7)  # −838 rad/s
+    assert a["e_t"] == pytest.approx(1.0 + 2.0 / 7.0 * abs(s0) / sc.v_t0, rel=1e-7)
+    assert rec["Ft"].values.min() >= 0.0
+    assert rec["spin"].values[0] == pytest.approx(-sc.spin, rel=1e-12)
+    vt_axis = -sc.v_t0 * a["e_t"]  # the centre's tangential velocity on the slip axis
+    assert vt_axis - a["omega"] * R == pytest.approx(0.0, abs=1e-7 * abs(s0))
 
 
 # ------------------------------------------------------------------ batch path
