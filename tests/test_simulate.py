@@ -247,21 +247,65 @@ def test_mindlin_force_reverses_at_15_deg_not_at_60(history):
     np.testing.assert_allclose(Ft, 0.092 * Fn, atol=1e-9 * Fn.max())
 
 
+def _dem_e_t(angle, history, steps_per_tc=20000):
+    """e_t of Chung & Ooi test 4 from an explicit DEM time loop written here, independently
+    of pipeline.simulate and pipeline.contact's Mindlin helpers: semi-implicit Euler at
+    dt = t_c/20000, Hunt–Crossley normal force (c for e = 0.98 from the exact relation of
+    PHYSICS.md §4), k_t = 8·G*·√(R·δ), and the per-step history updates as the DEM codes
+    write them (LAMMPS GRANULAR, gran_sub_mod_tangential.cpp: "for linear, mindlin,
+    mindlin_rescale: history = cumulative tangential displacement; for mindlin/force,
+    mindlin_rescale/force: history = cumulative tangential elastic force"):
+    total — ξ += s·dt, Ft = k_t·ξ, on the cap ξ = Ft/k_t; incremental — Ft += k_t·s·dt,
+    clipped to ±μ·Fn. First order in dt: ~1e-4 from the converged e_t at this step."""
+    R, rho, E, nu, v, mu = 2.5e-3, 4000.0, 380e9, 0.23, 3.9, 0.092
+    m = rho * 4.0 / 3.0 * math.pi * R**3
+    I = 0.4 * m * R**2
+    E_s = E / (1 - nu**2)
+    G_s = E / (2 * (1 + nu)) / (2 - nu)
+    K = 4.0 / 3.0 * E_s * math.sqrt(R)
+    vn0, vt0 = v * math.cos(math.radians(angle)), v * math.sin(math.radians(angle))
+    c = contact.calibrate_hunt_crossley_family(0.98)
+    dmax = (15 * m * vn0**2 / (16 * E_s * math.sqrt(R))) ** 0.4
+    dt = 2.943275 * dmax / vn0 / steps_per_tc
+    d, dd, vt, w, xi, Ft = 0.0, vn0, vt0, 0.0, 0.0, 0.0
+    while True:
+        Fn = max(K * d**1.5 * (1 + c * dd / vn0), 0.0) if d > 0 else 0.0
+        kt = 8 * G_s * math.sqrt(R * max(d, 0.0))
+        s, cap = vt - w * R, mu * Fn
+        if history == "total":
+            xi += s * dt
+            Ft = min(max(kt * xi, -cap), cap)
+            if abs(kt * xi) > cap:
+                xi = Ft / kt
+        else:
+            Ft = min(max(Ft + kt * s * dt, -cap), cap)
+        dd -= Fn / m * dt
+        d += dd * dt
+        vt -= Ft / m * dt
+        w += Ft * R / I * dt
+        if d <= 0 and dd < 0:
+            return vt / vt0
+
+
 @pytest.mark.parametrize(
-    "angle, history, e_t",
+    "angle, history, published",
     [
         (10.0, "total", 0.698),
         (10.0, "incremental", 0.714),
-        (5.0, "total", 0.95),
-        (5.0, "incremental", 0.89),
+        (5.0, "total", None),
+        (5.0, "incremental", None),
     ],
 )
-def test_mindlin_history_rules_chung_ooi_test4(angle, history, e_t):
-    """PHYSICS.md §4: on Chung & Ooi test 4 the total-displacement rule (LAMMPS mindlin) and
-    the incremental rule (YADE MindlinPhys) give e_t 0.698 vs 0.714 at 10° and 0.95 vs 0.89
-    at 5° (values as rounded there)."""
+def test_mindlin_history_rules_chung_ooi_test4(angle, history, published):
+    """Chung & Ooi test 4 (PHYSICS.md §4, §6). At 10° PHYSICS.md gives e_t 0.698 for the
+    total-displacement rule (LAMMPS mindlin) and 0.714 for the incremental rule (YADE,
+    LAMMPS mindlin/force). At 5° it quotes "0.89 vs 0.95" without naming which rule gives
+    which; the independent DEM loop above settles it — total 0.952, incremental 0.893 —
+    and at both angles the simulator must agree with that loop to 1e-3."""
     a = impact(al_oxide(angle=angle, e=0.98), tangential="mindlin", history=history).attrs
-    assert a["e_t"] == pytest.approx(e_t, abs=0.6 * 10.0 ** -(len(str(e_t)) - 2))
+    assert a["e_t"] == pytest.approx(_dem_e_t(angle, history), abs=1e-3)
+    if published is not None:
+        assert a["e_t"] == pytest.approx(published, abs=6e-4)
 
 
 @pytest.mark.parametrize("angle", [45.0, 60.0, 80.0])
