@@ -153,17 +153,11 @@ def test_energy_balance_for_every_normal_law(law):
 @pytest.mark.parametrize("law", DAMPED_LAWS)
 def test_calibrated_restitution(law):
     """Chung & Ooi (2011) test 3: a damped law must return the requested e (R = 2.5 mm Al
-    oxide at 3.9 m/s); we require |e_n − e| ≤ 0.001 for e in {0.1 … 0.98}."""
-    reached = 0
+    oxide at 3.9 m/s); we require |e_n − e| ≤ 0.001 for e in {0.1 … 0.98}. Every law here
+    reaches all of (0, 1] (PHYSICS.md §4), so none may refuse one of these."""
     for e in (0.1, 0.3, 0.5, 0.7, 0.9, 0.98):
-        try:
-            contact.NORMAL_LAWS[law].calibrate(e)
-        except InputError:
-            continue  # outside the law's reachable range
         a = impact(al_oxide(e=e), normal=law, tangential="none", samples=201).attrs
         assert abs(a["e_n"] - e) <= 1e-3, (law, e, a["e_n"])
-        reached += 1
-    assert reached >= 1
 
 
 def test_calibration_batch_path_hunt_crossley_family():
@@ -459,10 +453,6 @@ def test_batch_agrees_with_single_impact_for_every_registered_law():
     angles = np.array([5.0, 15.0, 45.0])
     for law in DAMPED_LAWS:
         for e in (0.05, 0.3, 0.9):
-            try:
-                contact.NORMAL_LAWS[law].calibrate(e)
-            except InputError:
-                continue
             sc = al_oxide(angle=angles, e=e)
             out = impact_outcomes(sc, normal=law, tangential="mindlin")
             for i, a in enumerate(angles):
@@ -548,8 +538,6 @@ def test_energy_balance_two_free_spheres():
 def test_batch_flags_unstable_stiff_damping():
     """A damping far too stiff for the fixed step (viscoelastic material time A = 0.05 s,
     ~10⁵× a real one) must not return numbers: NaN plus a PipelineWarning."""
-    if "viscoelastic" not in contact.NORMAL_LAWS:
-        pytest.skip("no viscoelastic law registered")
     sc = al_oxide(angle=np.array([15.0, 30.0]), e=0.9)
     with pytest.warns(PipelineWarning, match="too stiffly damped"):
         out = impact_outcomes(sc, normal="viscoelastic", alpha=0.05)
