@@ -173,12 +173,7 @@ class _Problem:
         return self.kt_coef * np.sqrt(np.maximum(x, 0.0))
 
 
-def _law(name):
-    if name not in contact.NORMAL_LAWS:
-        raise InputError(
-            f"unknown normal law {name!r}; choose one of {sorted(contact.NORMAL_LAWS)}"
-        )
-    return contact.NORMAL_LAWS[name]
+_law = contact._law  # name -> NormalLaw, InputError naming the choices
 
 
 def _param(law, e, K, m_eff, v0, alpha=None, param=None):
@@ -186,12 +181,7 @@ def _param(law, e, K, m_eff, v0, alpha=None, param=None):
     if param is not None:
         return param
     if alpha is not None:
-        to_param = getattr(law, "material_to_param", None)
-        if to_param is not None:
-            return to_param(alpha, K, m_eff, v0)
-        if law.name in ("hunt_crossley", "lankarani_nikravesh", "flores"):
-            return alpha * v0  # c = α·v0 (PHYSICS.md §4)
-        raise InputError(f"normal law {law.name!r} does not take a material constant alpha")
+        return law.material_to_param(alpha, K, m_eff, v0)  # e.g. c = α·v0 (PHYSICS.md §4)
     return law.calibrate(e)
 
 
@@ -207,8 +197,6 @@ def _check_target(scene: Scene):
 
 
 def _setup(scene: Scene, normal, alpha=None, param=None, target_kappa=None) -> _Problem:
-    if not isinstance(scene, Scene):
-        raise InputError("impact() needs a pipeline.Scene")
     _check_target(scene)
     for name in Scene.field_names():
         v = getattr(scene, name)
@@ -217,7 +205,6 @@ def _setup(scene: Scene, normal, alpha=None, param=None, target_kappa=None) -> _
                 "impact() simulates one scene; use impact_outcomes() for arrays "
                 f"(Scene.{name} has {v.size} values)"
             )
-    normal = default_normal(scene.e) if normal is None else normal
     law = _law(normal)
     if normal == "hertz" and scene.e < 1:
         raise InputError(
@@ -545,6 +532,8 @@ def impact(
         raise InputError(f"unknown Mindlin history rule {history!r}; choose one of {HISTORY_RULES}")
     if int(samples) < 3:
         raise InputError("samples must be at least 3")
+    if not isinstance(scene, Scene):
+        raise InputError("impact() needs a pipeline.Scene")
     normal_name = default_normal(scene.e) if normal is None else normal
     pb = _setup(scene, normal_name, alpha, param, target_kappa)
     atol = rtol if atol is None else atol
@@ -1145,9 +1134,7 @@ def impact_outcomes(
     for name in sorted(set(names)):
         law = _law(name)
         idx = np.nonzero(names == name)[0]
-        elastic = name == "hertz" or (
-            param is None and alpha is None and np.all(e[idx] == 1) and law.name == "hertz"
-        )
+        elastic = name == "hertz"
         if param is not None:
             prm = np.broadcast_to(np.asarray(param, dtype=float), shape).ravel()[idx]
         elif alpha is not None:

@@ -424,6 +424,8 @@ def test_unknown_models_are_refused():
         impact(al_oxide(), normal="bogus")
     with pytest.raises(InputError, match="history"):
         impact(al_oxide(), history="bogus")
+    with pytest.raises(InputError, match="Scene"):
+        impact({"radius": 2.5e-3, "speed": 3.9})
 
 
 def test_movable_flat_target_is_refused():
