@@ -280,6 +280,16 @@ def test_sensor_bad_input(tmp_path, name, content, fragment, line, column):
         assert err.column == column, str(err)
 
 
+def test_temperature_column_t_is_not_time(tmp_path):
+    """'T [°C]' beside 'time [s]' was taken for a second time column and the file refused."""
+    text = "time [ms],Fx [N],Fz [N],T [°C],Mz [N m]\n0,1,2,21.5,0\n1,2,3,21.6,0\n"
+    rec = load(_write(tmp_path, "temp.csv", text))
+    np.testing.assert_array_equal(rec["time"].values, [0.0, 1e-3])
+    np.testing.assert_array_equal(rec["Fn"].values, [2.0, 3.0])
+    assert rec.attrs["ignored_columns"] == "Mz [N m],T [°C]"
+    _raises(_write(tmp_path, "two.csv", "time [s],t [ms],Fz [N]\n0,0,1\n1,1,2\n"), "two time")
+
+
 def test_undecodable_body_bytes(tmp_path):
     p = _write(tmp_path, "bytes.csv", b"time [s],Fz [N]\n0,1\n1,\xff\xfe2\n2,3\n")
     err = _raises(p, "not valid UTF-8")

@@ -64,7 +64,7 @@ from ._common import (
     resolve_axes,
     scene_attrs,
 )
-from .units import resolve_unit, split_unit
+from .units import resolve_unit, split_unit, time_factor
 
 __all__ = ["read_sensor", "write_sensor", "DEFAULT_AXES"]
 
@@ -372,20 +372,33 @@ def parse_sensor_bytes(
     sep = _sniff_separator(header, p, header_line)
     dec = _sniff_decimal(body[:4096], sep)
     raw_names = [h.strip().strip('"').strip() for h in header.split(sep)]
-    time_col, force_cols, other_cols = None, {}, {}
+    time_cols, force_cols, other_cols = [], {}, {}
     for j, h in enumerate(raw_names):
         base, unit = split_unit(h)
         canon = canonical_column(base)
         if canon == "time":
-            if time_col is not None:
-                raise InputError(f"two time columns ({h!r})", path=p, line=header_line)
-            time_col = (j, h, unit)
+            time_cols.append((j, h, unit))
         elif canon in FORCE_COLUMNS:
             if canon in force_cols:
                 raise InputError(f"two {canon} columns", path=p, line=header_line, column=h)
             force_cols[canon] = (j, h, unit)
         elif h and base not in other_cols:
             other_cols[base] = (j, h, unit)
+    if len(time_cols) > 1:
+        # "time [s]" beside "T [°C]": a time-named column in a non-time unit is not time
+        timed = [c for c in time_cols if c[2] is None or time_factor(c[2]) is not None]
+        if len(timed) == 1:
+            for c in time_cols:
+                if c is not timed[0]:
+                    other_cols.setdefault(split_unit(c[1])[0], c)
+            time_cols = timed
+    if len(time_cols) > 1:
+        raise InputError(
+            f"two time columns ({', '.join(repr(c[1]) for c in time_cols)}); keep one",
+            path=p,
+            line=header_line,
+        )
+    time_col = time_cols[0] if time_cols else None
     if time_col is None:
         raise InputError(
             f"no time column in the header {header.strip()!r}; name it 'time [s]' (or 't' "
