@@ -1203,9 +1203,10 @@ def mindlin_total(xi, dxi, delta, Fn, mu, G_eff, R_eff) -> MindlinState:
     This is the rule of LAMMPS ``pair granular ... tangential mindlin`` and of LIGGGHTS
     ``tangential_model history`` (Di Renzo & Di Maio 2004 "no-slip" model with Coulomb
     limit), not the full Mindlin–Deresiewicz (1953) annulus-of-slip theory that Thornton
-    et al. (2011, 2013) use; on Chung & Ooi's test 4 it gives e_t ≈ 0.952 at 5° and
-    0.698 at 10° (PHYSICS.md §4), against 0.893 and 0.714 for
-    :func:`mindlin_incremental`.
+    et al. (2011, 2013) use; on Chung & Ooi's test 4 it gives e_t ≈ 0.698 at 10°
+    against 0.714 for :func:`mindlin_incremental` (PHYSICS.md §4), and 0.952 against
+    0.893 at 5° (PHYSICS.md's "0.89 vs 0.95" does not say which is which; an explicit DEM
+    loop with these per-step rules, ``tests/test_simulate.py``, gives this order).
 
     Parameters
     ----------

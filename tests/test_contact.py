@@ -552,3 +552,21 @@ def test_tabulated_cor_heavy_damping_extrapolation(name):
     p = 3e4
     e = contact.NORMAL_LAWS[name].cor(p)
     assert _integrate_cor(ODE_ACCEL[name](p)) == pytest.approx(e, rel=1e-2)
+
+
+# --------------------------------------------------------------------------- Mindlin
+@pytest.mark.parametrize("nu", [0.0, 0.23, 0.3, 0.45])
+def test_mindlin_to_hertz_tangent_stiffness_ratio_like_materials(nu):
+    """PHYSICS.md §4 (Mindlin 1949; Johnson 1985 §7.2): for like materials
+    k_t/k_n = 2(1−ν)/(2−ν), k_t = 8·G*·a, k_n = dF/dδ = (3/2)·K·√δ = 2·E*·a."""
+    E, R1, R2, delta = 210e9, 0.0127, 0.0254, 7e-6
+    s = Scene(
+        radius=R1, mass=0.067, E=E, nu=nu, target_E=E, target_nu=nu, target_radius=R2, speed=1.0
+    )
+    kt = contact.mindlin_stiffness(delta, s.G_eff, s.R_eff)
+    K = contact.hertz_stiffness(s.E_eff, s.R_eff)
+    kn = 1.5 * K * math.sqrt(delta)
+    assert kt / kn == pytest.approx(2 * (1 - nu) / (2 - nu), rel=1e-12)
+    a = contact.contact_radius(delta, s.R_eff)
+    assert a == pytest.approx(math.sqrt(delta * R1 * R2 / (R1 + R2)), rel=1e-14)
+    assert kn == pytest.approx(2 * s.E_eff * a, rel=1e-12)
