@@ -290,6 +290,20 @@ def test_temperature_column_t_is_not_time(tmp_path):
     _raises(_write(tmp_path, "two.csv", "time [s],t [ms],Fz [N]\n0,0,1\n1,1,2\n"), "two time")
 
 
+@pytest.mark.parametrize(
+    "content,eol,encoding",
+    [
+        ("# a: 1\rtime [s],Fz [kN]\r0,1\r1,2\r", "\r", "utf-8"),
+        ("t [µs]\tFz [kN]\r0\t1\r1\t2\r", "\r", "utf-16"),
+    ],
+)
+def test_bare_cr_line_ends(tmp_path, content, eol, encoding):
+    """Classic Mac OS line ends: the whole file was one header line (a baffling message)."""
+    rec = load(_write(tmp_path, "cr.csv", content.encode(encoding)))
+    np.testing.assert_array_equal(rec["Fn"].values, [1e3, 2e3])
+    assert rec.sizes["time"] == 2
+
+
 def test_undecodable_body_bytes(tmp_path):
     p = _write(tmp_path, "bytes.csv", b"time [s],Fz [N]\n0,1\n1,\xff\xfe2\n2,3\n")
     err = _raises(p, "not valid UTF-8")

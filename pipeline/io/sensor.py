@@ -329,10 +329,16 @@ def _head_and_body(raw: bytes, p: Path, encoding):
 
     UTF-8 files (the usual case) keep the body as bytes, handed to pandas' C parser without a
     decode-and-copy; other encodings are decoded in full and the body passed as text.
+    Returns ``(raw, head, body offset in raw or None, full text or None)``; bare-CR line
+    ends (classic Mac OS) are turned into LF first, so ``raw`` may be a new bytes object.
     """
     if encoding is not None or raw.startswith((b"\xff\xfe", b"\xfe\xff")):
         text = decode(raw, p, encoding)
-        return text, None, text
+        if "\n" not in text:
+            text = text.replace("\r", "\n")
+        return raw, text, None, text
+    if b"\n" not in raw:  # (a CR byte is never part of a multi-byte UTF-8 character)
+        raw = raw.replace(b"\r", b"\n")
     start = 3 if raw.startswith(b"\xef\xbb\xbf") else 0
     pos = start
     while pos < len(raw):
@@ -343,7 +349,7 @@ def _head_and_body(raw: bytes, p: Path, encoding):
         if stripped and not stripped.startswith(b"#"):
             break
     head = decode(raw[start:pos], p)
-    return head, pos, None
+    return raw, head, pos, None
 
 
 def parse_sensor_bytes(
@@ -359,7 +365,7 @@ def parse_sensor_bytes(
     fmt="sensor_csv",
 ):
     """Parse the bytes of a sensor CSV (``p`` and ``sha`` for messages and attributes)."""
-    head, body_offset, full_text = _head_and_body(raw, p, encoding)
+    raw, head, body_offset, full_text = _head_and_body(raw, p, encoding)
     meta, header, header_line, body_start = _split_head(head, p)
     if full_text is not None:
         body = full_text[body_start:]
