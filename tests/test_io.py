@@ -304,6 +304,30 @@ def test_bare_cr_line_ends(tmp_path, content, eol, encoding):
     assert rec.sizes["time"] == 2
 
 
+@pytest.mark.parametrize(
+    "name,content,fragment,line,column",
+    [
+        # a line of one tab in a tab-separated file is a row of empty cells, not a blank
+        # line (pandas reads it as a row): the line number was one off
+        ("tab.csv", "time [s]\tFz [N]\n0\t1\n\t\n1\t2\n", "missing", 3, "time [s]"),
+        # spaces around a tab: pandas refuses the cell; no line was named before
+        ("tab2.csv", "time [s]\tFz [N]\n0\t1\n \t \n1\t2\n", "' '", 3, "time [s]"),
+        # a no-break space after a number is not blank to pandas: no line was named before
+        ("nbsp.csv", "time [s],Fz [N]\n0,1\n1,2\u00a0\n2,3\n", "'2\\xa0'", 3, "Fz [N]"),
+        # Excel quotes a cell holding the separator: one cell, not "3 fields"
+        ("xl.csv", '"time [s]","Fz [N]"\n"0","1"\n"1","2,5"\n', "'2,5'", 3, "Fz [N]"),
+        ("hash.csv", "time [s],Fz [N]\n0,1\n# pause\n1,2\n", "before the header", 3, None),
+        ("thou.csv", "t [ms];Fz [N]\n0;1\n1;1.234,5\n", "no thousands separators", 3, "Fz [N]"),
+        # a lone trailing separator is tolerated: the bad cell is on line 3, not line 2
+        ("trail.csv", "time [s],Fz [N]\n0,1,\n1,abc,\n", "'abc'", 3, "Fz [N]"),
+    ],
+)
+def test_sensor_bad_line_is_the_one_named(tmp_path, name, content, fragment, line, column):
+    err = _raises(_write(tmp_path, name, content), fragment)
+    assert err.line == line, str(err)
+    assert err.column == column, str(err)
+
+
 def test_undecodable_body_bytes(tmp_path):
     p = _write(tmp_path, "bytes.csv", b"time [s],Fz [N]\n0,1\n1,\xff\xfe2\n2,3\n")
     err = _raises(p, "not valid UTF-8")

@@ -39,7 +39,9 @@ parse shows a problem does a slower pass locate the exact line and column for th
 
 from __future__ import annotations
 
+import csv
 import io
+import itertools
 import re
 import warnings
 from pathlib import Path
@@ -209,7 +211,7 @@ def _split_head(text: str, p: Path):
         end = len(text) if nl < 0 else nl
         line = text[pos:end].rstrip("\r")
         lineno += 1
-        stripped = line.strip()
+        stripped = line.strip(_ASCII_SPACE)  # as the byte scan of _head_and_body
         nxt = len(text) + 1 if nl < 0 else nl + 1
         if stripped.startswith("#"):
             body = stripped.lstrip("#").strip()
@@ -278,46 +280,73 @@ class _LazyText:
             ) from exc
 
 
-def _data_lines(body: str, first_line: int):
-    """(line number, text) of every non-blank body line (error path only)."""
+#: What pandas' C parser skips around a number (C ``isspace``); not Unicode spaces.
+_ASCII_SPACE = " \t\n\v\f\r"
+
+
+def _data_lines(body: str, first_line: int, sep: str):
+    """(line number, cells) of every body line pandas reads as a row (error path only).
+
+    As in pandas' C parser, a line is blank when it holds only spaces and tabs other than
+    the separator, and a quote opens a quoted cell only at the start of the cell.
+    """
+    blank = " \t".replace(sep, "")
     for k, line in enumerate(_LINE_END.split(body)):
-        if line.strip():
-            yield first_line + k, line
+        if line.strip(blank):
+            yield first_line + k, next(csv.reader([line], delimiter=sep))
 
 
-def _row_line(body: str, first_line: int, row: int) -> int | None:
-    for i, (lineno, _) in enumerate(_data_lines(body, first_line)):
-        if i == row:
-            return lineno
-    return None
+def _row(body, first_line: int, sep: str, row: int) -> tuple[int, list]:
+    """(line number, cells) of data row ``row`` (0-based, as pandas counts rows)."""
+    return next(itertools.islice(_data_lines(str(body), first_line, sep), row, None))
+
+
+def _fields(cells: list, n: int) -> int:
+    """Number of fields, not counting one empty cell after a trailing separator."""
+    return n if len(cells) == n + 1 and not cells[-1] else len(cells)
+
+
+def _fields_error(cells: list, n: int, p: Path, lineno: int) -> InputError:
+    hint = "check for a stray or missing separator"
+    if cells and cells[0].lstrip().startswith("#"):
+        hint = "'#' lines are read only before the header: delete this one"
+    return InputError(
+        f"has {len(cells)} fields but the header has {n}; {hint}", path=p, line=lineno
+    )
+
+
+def _is_number(cell: str, dec: str) -> bool:
+    """Whether pandas reads ``cell`` (quotes removed) as a float or as NaN/inf."""
+    if cell == "" or NONFINITE.match(cell):
+        return True
+    c = cell.strip(_ASCII_SPACE)
+    if dec == ",":
+        if "." in c:
+            return False
+        c = c.replace(",", ".")
+    return bool(NUMBER.match(c))
 
 
 def _diagnose(body, first_line, sep, dec, names, p, original):
     """Find the first malformed body line and raise an InputError that names it."""
     n = len(names)
-    for lineno, line in _data_lines(body, first_line):
-        cells = line.rstrip("\r").split(sep)
-        if len(cells) != n:
-            raise InputError(
-                f"has {len(cells)} fields but the header has {n}; check for a stray or "
-                "missing separator",
-                path=p,
-                line=lineno,
-            ) from original
-        for name, cell in zip(names, cells, strict=True):
-            if name is None:
-                continue
-            c = cell.strip().strip('"').strip()
-            if dec == ",":
-                c = "x" if "." in c else c.replace(",", ".")
-            if not (c == "" or NUMBER.match(c) or NONFINITE.match(c)):
+    for lineno, cells in _data_lines(body, first_line, sep):
+        if _fields(cells, n) != n:
+            raise _fields_error(cells, n, p, lineno) from original
+        for name, cell in zip(names, cells, strict=False):
+            if name is not None and not _is_number(cell, dec):
                 raise InputError(
-                    f"cell {cell.strip()!r} is not a number; fix or delete this line "
-                    f"(decimal {'comma' if dec == ',' else 'point'} expected)",
+                    f"cell {cell.strip(_ASCII_SPACE) or cell!r} is not a number; fix or "
+                    "delete this line "
+                    f"(decimal {'comma' if dec == ',' else 'point'} expected"
+                    f"{', no thousands separators' if '.' in cell and ',' in cell else ''})",
                     path=p,
                     line=lineno,
                     column=name,
                 ) from original
+    for lineno, cells in _data_lines(body, first_line, sep):  # a lone trailing separator
+        if len(cells) != n:
+            raise _fields_error(cells, n, p, lineno) from original
     raise InputError(
         f"cannot parse the table ({original}); check the separator and decimal mark",
         path=p,
@@ -428,6 +457,7 @@ def parse_sensor_bytes(
     for col, _sign in chosen.values():
         wanted[force_cols[col][0]] = col
     names = [wanted.get(j) for j in range(len(raw_names))]
+    shown = [h if names[j] else None for j, h in enumerate(raw_names)]  # for messages
     labels = [f"c{j}" for j in range(len(raw_names))]
     first_line = header_line + 1
     try:
@@ -453,7 +483,6 @@ def parse_sensor_bytes(
         pd.errors.EmptyDataError,
         pd.errors.ParserWarning,
     ) as exc:
-        shown = [raw_names[j] if names[j] else None for j in range(len(raw_names))]
         _diagnose(str(body), first_line, sep, dec, shown, p, exc)
     n = len(frame)
     if n == 0:
@@ -468,32 +497,22 @@ def parse_sensor_bytes(
         bad = ~np.isfinite(values)
         if bad.any():
             row = int(np.argmax(bad))
-            line = _row_line(str(body), first_line, row)
-            shown = [raw_names[j] if names[j] else None for j in range(len(raw_names))]
-            cells = None
-            if line is not None:
-                cells = _LINE_END.split(str(body))[line - first_line].split(sep)
-            if cells is not None and len(cells) != len(raw_names):
-                raise InputError(
-                    f"has {len(cells)} fields but the header has {len(raw_names)}; check for "
-                    "a stray or missing separator",
-                    path=p,
-                    line=line,
-                )
-            col_name = shown[[names[j] for j in range(len(names))].index(key)]
+            line, cells = _row(body, first_line, sep, row)
+            if _fields(cells, len(raw_names)) != len(raw_names):
+                raise _fields_error(cells, len(raw_names), p, line)
             what = "time" if key == "time" else "force"
             raise InputError(
                 f"{what} value {float(values[row])!r} is missing, NaN or infinite; repair or "
                 "delete this line",
                 path=p,
                 line=line,
-                column=col_name,
+                column=shown[names.index(key)],
             )
     t = cols["time"] * t_factor if t_factor != 1.0 else cols["time"]
     steps = np.diff(t)
     if not np.all(steps > 0):
         i = int(np.argmax(~(steps > 0)))
-        line = _row_line(str(body), first_line, i + 1)
+        line, _ = _row(body, first_line, sep, i + 1)
         verb = "repeats" if steps[i] == 0 else "goes backwards"
         raise InputError(
             f"time {verb} ({float(cols['time'][i])!r} then {float(cols['time'][i + 1])!r} "
