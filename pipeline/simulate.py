@@ -116,6 +116,15 @@ def default_normal(e) -> str:
 
 
 # ----------------------------------------------------------------------------- setup
+def _check_models(tangential, history):
+    if tangential not in TANGENTIAL_MODELS:
+        raise InputError(
+            f"unknown tangential model {tangential!r}; choose one of {TANGENTIAL_MODELS}"
+        )
+    if history not in HISTORY_RULES:
+        raise InputError(f"unknown Mindlin history rule {history!r}; choose one of {HISTORY_RULES}")
+
+
 @dataclass(frozen=True)
 class _Problem:
     """Dimensionless constants of one impact (internal)."""
@@ -524,12 +533,7 @@ def impact(
         Unknown model names, an array scene, missing elastic constants, ``"hertz"`` with
         e < 1, or an e the law cannot reach.
     """
-    if tangential not in TANGENTIAL_MODELS:
-        raise InputError(
-            f"unknown tangential model {tangential!r}; choose one of {TANGENTIAL_MODELS}"
-        )
-    if history not in HISTORY_RULES:
-        raise InputError(f"unknown Mindlin history rule {history!r}; choose one of {HISTORY_RULES}")
+    _check_models(tangential, history)
     if int(samples) < 3:
         raise InputError("samples must be at least 3")
     if not isinstance(scene, Scene):
@@ -1071,12 +1075,7 @@ def impact_outcomes(
     Scenes whose damping is too stiff for the explicit fixed step (e.g. an absurd material
     constant) come back as NaN with a :class:`~pipeline.errors.PipelineWarning`.
     """
-    if tangential not in TANGENTIAL_MODELS:
-        raise InputError(
-            f"unknown tangential model {tangential!r}; choose one of {TANGENTIAL_MODELS}"
-        )
-    if history not in HISTORY_RULES:
-        raise InputError(f"unknown Mindlin history rule {history!r}; choose one of {HISTORY_RULES}")
+    _check_models(tangential, history)
     if int(n_steps) < 4:
         raise InputError("n_steps must be at least 4")
     n_steps = int(n_steps)
