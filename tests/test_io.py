@@ -456,6 +456,13 @@ def test_wpd_combined_exports_keep_every_point():
     validate(rec)
 
 
+def test_wpd_dict_refuses_channels():
+    """channels= beside a {channel: path} dict was silently ignored."""
+    paths = {"Fn": SAMPLES / "wpd_Fn.csv", "Ft": SAMPLES / "wpd_Ft.csv"}
+    with pytest.raises(InputError, match="channels= does not apply when path is a dict"):
+        load(paths, channels={"Fn": "wpd_Ft.csv"}, time_unit="us", force_unit="N")
+
+
 def test_wpd_ft_alone_has_no_normal_force():
     p = SAMPLES / "wpd_Ft.csv"
     _raises(p, "no normal-force channel", time_unit="us", force_unit="N")

@@ -378,6 +378,11 @@ def read_wpd(
     """
     scene = scene_attrs(scene_fields)
     if isinstance(path, dict):
+        if channels is not None:
+            raise InputError(
+                "channels= does not apply when path is a dict: its keys already name the "
+                f"channels ({', '.join(map(str, path))}); drop channels= or pass a list"
+            )
         return _read_singles(
             list(path.values()), list(path.keys()), time_unit, force_unit, encoding, scene
         )
