@@ -463,6 +463,18 @@ def test_wpd_dict_refuses_channels():
         load(paths, channels={"Fn": "wpd_Ft.csv"}, time_unit="us", force_unit="N")
 
 
+def test_wpd_cp1252_advice_names_read_wpd(tmp_path):
+    """The undecodable-bytes advice named only read_sensor, also for a WPD export."""
+    text = "Normalkraft é,,Ft,\nX,Y,X,Y\n1,2,1,1\n2,3,2,2\n"
+    p = _write(tmp_path, "ds.csv", text.encode("cp1252"))
+    err = _raises(p, "read_wpd(path, encoding='cp1252'", time_unit="ms", force_unit="N")
+    assert err.line == 1
+    rec = read_wpd(
+        p, encoding="cp1252", channels={"Fn": "Normalkraft é"}, time_unit="ms", force_unit="N"
+    )
+    np.testing.assert_array_equal(rec["Fn"].values, [2.0, 3.0])
+
+
 def test_wpd_ft_alone_has_no_normal_force():
     p = SAMPLES / "wpd_Ft.csv"
     _raises(p, "no normal-force channel", time_unit="us", force_unit="N")

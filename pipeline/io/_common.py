@@ -133,8 +133,10 @@ def decode(raw: bytes, path, encoding: str | None = None) -> str:
         line = raw[: exc.start].count(b"\n") + 1
         raise InputError(
             f"bytes at offset {exc.start} are not valid UTF-8 (this is not a UTF-8 text file); "
-            "re-save it as UTF-8, or for a legacy Windows export call "
-            "pipeline.io.read_sensor(path, encoding='cp1252')",
+            "re-save it as UTF-8, or for a legacy Windows export call the reader with "
+            "encoding='cp1252': pipeline.io.read_sensor(path, encoding='cp1252') for a "
+            "sensor CSV, pipeline.io.read_wpd(path, encoding='cp1252', ...) for a "
+            "WebPlotDigitizer export",
             path=path,
             line=line,
         ) from exc
