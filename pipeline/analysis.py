@@ -181,12 +181,18 @@ def _clean(o):
     return o
 
 
-def estimate_mu(window, t_c: float, *, level: float = 0.3) -> float:
-    """Friction coefficient from the record: median Ft/Fn during compression [-].
+def estimate_mu(window, t_c: float, *, level: float = 0.3, band: float = 0.1) -> float:
+    """Friction coefficient from the record: Ft/Fn where the ball slides in compression [-].
 
-    Uses the samples before maximum compression ``t_c`` [s] where Fn exceeds ``level`` of
-    its peak (the ball slides there in every regime that starts sliding; PHYSICS.md §3).
-    Returns NaN without an Ft channel or without such samples.
+    While the contact slides, Coulomb's law holds with equality, Ft/Fn = μ; once it sticks
+    (the sticking regime, after corner A — often early in compression, PHYSICS.md §3) or
+    micro-slips, Ft/Fn < μ. So μ is the upper plateau of the ratio: over the samples before
+    maximum compression ``t_c`` [s] where Fn exceeds ``level`` of its peak, the median of the
+    ratios within ``band`` (relative) of their 95th percentile. For a record that slides
+    throughout this is the median of nearly every ratio (a cut 10 % under the top removes
+    only noise beyond a few σ); for a sticking record it skips the stuck samples. Returns
+    NaN without an Ft channel or without such samples; needs some sliding samples above the
+    level (a contact that sticks almost at once gives an estimate below μ).
     """
     rec = window.record
     if "Ft" not in rec:
@@ -197,7 +203,11 @@ def estimate_mu(window, t_c: float, *, level: float = 0.3) -> float:
     sel = (tt <= t_c) & (fn_at > level * np.max(fn))
     if not sel.any():
         return float("nan")
-    return float(np.median(ft[sel] / fn_at[sel]))
+    r = ft[sel] / fn_at[sel]
+    top = float(np.quantile(r, 0.95))
+    if top > 0:
+        r = r[r >= (1.0 - band) * top]
+    return float(np.median(r))
 
 
 def analyse(

@@ -211,3 +211,16 @@ def test_record_without_Ft_is_refused_up_front():
             _analyse(rec, scene, mu=mu)
     with pytest.raises(InputError, match="source 'quartic' is unknown"):
         _analyse(impact(scene, tangential="coulomb"), scene, source="quartic")
+
+
+def test_record_mu_in_the_sticking_regime():
+    """Sticking regime (tan 15° = 0.27 < 3.5·μ·(1+e) = 1.9): the contact slides with
+    Ft = μ·Fn only until corner A (a quarter of the compression impulse here, Pn_A = Pt_S/μ,
+    PHYSICS.md §3), then rolls with Ft = 0 (Coulomb law, rigid tangential contact). The
+    record's μ is the sliding plateau, not the median over compression (which is 0)."""
+    scene = Scene(speed=0.5, angle_deg=15.0, mu=0.3, e=0.8, **STEEL)
+    rec = impact(scene, tangential="coulomb")
+    a = _analyse(rec, scene.replace(mu=0.6), mu="record", n_boot=0)
+    assert a.rigid.regime == "sticking"
+    assert a.mu_record == pytest.approx(0.3, rel=0.01)
+    assert a.rigid_scene.mu == a.mu_record
