@@ -505,10 +505,11 @@ def fig6_disc_velocity(scene: Scene = None, surface_speeds=None) -> Figure:
         dash = {"ls": (0, (4, 3)), "lw": 0.8, "color": grey, "zorder": 2}
         for uk, vk in zip(inside, vx_k, strict=True):
             side = 1.0 if uk > -shift else -1.0
-            # each branch continued a little past the kink, to show the corner
-            ue = np.array([uk, uk + side * 0.12 * span])
+            # each branch continued a little past the kink, to show the corner (short enough
+            # to stay clear of the regime labels)
+            ue = np.array([uk, uk + side * 0.08 * span])
             ax.plot(ue, kap / (1 + kap) * m_ratio * (ue + shift), **dash)
-            ax.plot([uk - side * 0.12 * span, uk], [vk, vk], **dash)
+            ax.plot([uk - side * 0.08 * span, uk], [vk, vk], **dash)
             ax.axvline(uk, color=grey, lw=0.6, ls=":")
             if side > 0:
                 text = (
@@ -536,15 +537,18 @@ def fig6_disc_velocity(scene: Scene = None, surface_speeds=None) -> Figure:
                 )
         if inside:
             ax.plot(inside, vx_k, "o", color="black", mfc="white", ms=5, zorder=5, gid="kink")
-        y_hi = max(float(np.max(vx)), plateau, 1e-12) * 1.25
         y_lo = min(0.0, float(np.min(vx)) * 1.25)
+        # the curve fills the lower 72 % of the axes: the regime label (three lines at the
+        # top, ~20 % of the height) stays clear of the plateau and the kink's dashes
+        y_hi = y_lo + (max(float(np.max(vx)), plateau, 1e-12) - y_lo) / 0.72
         if stick.any():
             xs = u[stick]
             u_sym = "u" if shift == 0 else r"(u + \omega_0 R)"
             ax.text(
                 0.5 * (xs.min() + xs.max()),
-                0.93 * y_hi,
+                0.97,
                 "sticking:\nleaves rolling\n" + rf"$v_x'' = {_kappa_text(kap)}\,{u_sym}$",
+                transform=ax.get_xaxis_transform(),  # x in m/s, y as a fraction of the axes
                 color=COLORS["sticking"],
                 ha="center",
                 va="top",
@@ -555,7 +559,8 @@ def fig6_disc_velocity(scene: Scene = None, surface_speeds=None) -> Figure:
             xs = u[right]
             ax.text(
                 0.5 * (xs.min() + xs.max()),
-                0.35 * plateau if y_lo >= 0 else -0.45 * plateau,
+                # under the plateau, below the u* note; below v = 0 when that band is larger
+                0.35 * plateau if plateau >= -y_lo else 0.5 * y_lo,
                 "sliding throughout\n" + r"$v_x'' = \mu(1+e)\,v'$",
                 color=COLORS["sliding"],
                 ha="center",
@@ -649,16 +654,15 @@ def fig8_forces(analysis) -> Figure:
         ax.set_ylabel("force [N]")
         axr.set_ylabel("residual [N]")
         axr.set_xlabel(r"time from contact start [$\mu$s]")
-        ax.legend(loc="center right", fontsize=7)
-        if every > 1:
-            ax.text(
-                0.01,
-                0.02,
-                f"1 in {every} samples shown",
-                transform=ax.transAxes,
-                fontsize=6,
-                color=COLORS["construction"],
-            )
+        # above the axes: inside, the falling Fn of the restitution phase runs through any
+        # corner the legend could take
+        fig.legend(
+            loc="outside upper center",
+            ncols=2,
+            fontsize=7,
+            title=f"data: 1 in {every} samples shown" if every > 1 else None,
+            title_fontsize=6,
+        )
         panel_label(ax, "(a)")
         panel_label(axr, "(b)")
         return fig
@@ -707,17 +711,38 @@ def fig9_percussion_plane(analysis) -> Figure:
             solid_joinstyle="miter",
         )
         ax.plot(v[-1, 0], v[-1, 1], "o", ms=4, color=COLORS["rigid"])
+        sticking = rig.regime == "sticking"
         ax.text(
             v[-1, 0],
             v[-1, 1],
-            "E2 " if rig.regime == "sticking" else "E1 ",
+            r"$E_2$ " if sticking else r"$E_1$ ",
             ha="right",
             va="bottom",
             color=COLORS["rigid"],
         )
-        if rig.regime == "sticking":
+        # the seed's names of the rigid lines: LF (slope μ) on its upper-left side, where
+        # the measured curve (which leaves LF towards larger Pt) does not run; S beside
+        # the vertical sticking segment
+        lf_end = v[1] if sticking else v[-1]
+        ax.text(
+            0.45 * lf_end[0],
+            0.45 * lf_end[1],
+            "LF  ",
+            ha="right",
+            va="bottom",
+            color=COLORS["rigid"],
+        )
+        if sticking:
             ax.plot(v[1, 0], v[1, 1], "s", ms=3.5, color=COLORS["rigid"])
-            ax.text(v[1, 0], v[1, 1], "  A", ha="left", va="center", color=COLORS["rigid"])
+            ax.text(v[1, 0], v[1, 1], "A  ", ha="right", va="bottom", color=COLORS["rigid"])
+            ax.text(
+                v[1, 0],
+                0.5 * (v[1, 1] + v[-1, 1]),
+                "(S) ",
+                ha="right",
+                va="center",
+                color=COLORS["rigid"],
+            )
         ax.plot(
             np.where(comp, Pt, np.nan),
             np.where(comp, Pn, np.nan),
@@ -762,10 +787,10 @@ def fig9_percussion_plane(analysis) -> Figure:
         ax.set_xlabel(r"tangential percussion $P_t$ [mN$\cdot$s]")
         ax.set_ylabel(r"normal percussion $P_n$ [mN$\cdot$s]")
         fig.legend(loc="outside lower center", ncols=2, fontsize=6.5)
-        sc = a.scene
+        sc = a.rigid_scene  # the μ and e the broken line was drawn with
         ax.set_title(
-            f"{sc.angle_deg:g}°, {sc.speed:g} m/s, μ = {sc.mu:.3f}, "
-            f"e = {sc.e:g}: {rig.regime} (rigid)",
+            f"{sc.angle_deg:g}°, {sc.speed:g} m/s, μ = {sc.mu:.3g}, "
+            f"e = {sc.e:.3g}: {rig.regime} (rigid)",
             fontsize=8,
         )
         return fig

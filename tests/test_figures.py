@@ -161,3 +161,91 @@ def test_fig4_symbols_follow_the_scene():
     (S,) = _by_gid(fig, "line-S")
     s0 = sl.speed * math.sin(math.radians(sl.angle_deg)) + 30.0 * sl.radius
     np.testing.assert_allclose(S.get_xdata(), 2 / 7 * sl.m * s0, rtol=1e-12)
+
+
+def _rendered_text_boxes(ax):
+    """Window extents of the visible, non-empty texts drawn in ``ax`` (after a real draw)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    fig = ax.figure
+    FigureCanvasAgg(fig).draw()
+    r = fig.canvas.get_renderer()
+    return [
+        (t.get_text(), t.get_window_extent(r))
+        for t in ax.texts
+        if t.get_visible() and t.get_text().strip()
+    ]
+
+
+@pytest.mark.parametrize(
+    "spin, speeds",
+    [(0.0, None), (-20.0, None), (0.0, np.linspace(-2.5, 2.5, 41))],
+)
+def test_fig6_labels_inside_the_axes_and_apart(spin, speeds):
+    # with a spin the sticking line crosses v = 0 and the sliding label used to be placed
+    # below the axes, over the tick labels
+    fig = fig6_disc_velocity(default_scenes()["fig6"].replace(spin=spin), speeds)
+    (curve,) = _by_gid(fig, "v-x")
+    ax = curve.axes
+    boxes = _rendered_text_boxes(ax)
+    assert len(boxes) >= 3
+    frame, page = ax.get_window_extent(), fig.bbox
+    for text, b in boxes:
+        # above the x tick labels and below the top of the axes; sideways the u* note may
+        # reach into the right margin, but not off the page
+        assert frame.y0 <= b.y0 and b.y1 <= frame.y1, text
+        assert page.x0 <= b.x0 and b.x1 <= page.x1, text
+    for i, (ta, a) in enumerate(boxes):
+        for tb, b in boxes[i + 1 :]:
+            assert not a.overlaps(b), (ta, tb)
+
+
+@pytest.fixture(scope="module")
+def sticking_analysis():
+    """A sticking-regime Coulomb impact (tan α < 3.5·μ·(1+e)) analysed with μ and e taken
+    from the record while the scene's guesses are off."""
+    import warnings
+
+    from pipeline import Scene, analyse
+    from pipeline.errors import PoorFitWarning
+    from pipeline.simulate import impact
+
+    truth = Scene(
+        radius=0.0127, density=7850.0, E=210e9, nu=0.29, speed=0.5, angle_deg=15.0, mu=0.3, e=0.8
+    )
+    rec = impact(truth, tangential="coulomb")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", PoorFitWarning)
+        return analyse(rec, truth.replace(mu=0.6, e=0.5), mu="record", e="record", n_boot=0)
+
+
+def test_fig9_names_the_rigid_lines_and_states_the_mu_it_drew(sticking_analysis):
+    from pipeline.figures import fig9_percussion_plane
+
+    a = sticking_analysis
+    assert a.rigid.regime == "sticking"
+    assert a.rigid_scene.mu == pytest.approx(0.3, rel=0.02)  # from the record, not 0.6
+    fig = fig9_percussion_plane(a)
+    (line,) = _by_gid(fig, "rigid-line")
+    ax = line.axes
+    np.testing.assert_allclose(_xy(line), np.asarray(a.rigid.vertices) * 1e3, rtol=1e-12)
+    # the title quotes the μ and e the broken line was drawn with
+    assert f"μ = {a.rigid_scene.mu:.3g}" in ax.get_title()
+    assert f"e = {a.rigid_scene.e:.3g}" in ax.get_title()
+    labels = [t for t, _ in _rendered_text_boxes(ax)]
+    for name in ("LF", "(S)", "A", "$E_2$", "(C)", "(T)"):
+        assert any(t.strip() == name for t in labels), name
+
+
+def test_fig8_legend_clear_of_the_data(sticking_analysis):
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from pipeline.figures import fig8_forces
+
+    fig = fig8_forces(sticking_analysis)
+    FigureCanvasAgg(fig).draw()
+    r = fig.canvas.get_renderer()
+    (leg,) = fig.legends
+    for ax in fig.axes:
+        assert not leg.get_window_extent(r).overlaps(ax.get_window_extent(r))
+    assert "[N]" in fig.axes[0].get_ylabel() and "[$\\mu$s]" in fig.axes[1].get_xlabel()
