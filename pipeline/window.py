@@ -46,6 +46,7 @@ F. R. Hampel, "The influence curve and its role in robust estimation", J. Am. St
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -285,17 +286,7 @@ def _finish(record, t_start, t_end, kind, noise, baseline, threshold, peak):
         peak=float(peak),
     )
     windowed = apply_window(record, params)
-    return ContactWindow(
-        t_start=params.t_start,
-        t_end=params.t_end,
-        kind=kind,
-        noise=noise,
-        baseline=baseline,
-        n_samples=int(windowed.sizes["time"]),
-        threshold=params.threshold,
-        peak=params.peak,
-        record=windowed,
-    )
+    return dataclasses.replace(params, n_samples=int(windowed.sizes["time"]), record=windowed)
 
 
 def _passthrough(record):
@@ -414,10 +405,7 @@ def _sensor(record, *, k, false_alarm, guard, max_iter):
         sigma = mad_sigma(r[outside])
         if sigma == 0.0:  # quantised or noise-free baseline: fall back to the std
             sigma = float(np.std(r[outside]))
-        thr = kk * sigma
-        if sigma == 0.0:
-            thr = 0.0
-        above = np.abs(r) > thr
+        above = np.abs(r) > kk * sigma
         if not above.any():
             window = None
             break
