@@ -292,7 +292,7 @@ def reproduce(
 
 
 def _report_md(main, a: Analysis, f: Findings, records, analyses) -> str:
-    sc = a.scene
+    sc, rs = a.scene, a.rigid_scene
     lines = [
         "# Rigid versus deformable: the seed's verdict, measured",
         "",
@@ -304,10 +304,16 @@ def _report_md(main, a: Analysis, f: Findings, records, analyses) -> str:
         f"μ = {sc.mu:.3f}, e = {sc.e:g} — and states each finding with numbers.",
         "",
         f"Rigid prediction: **{a.rigid.regime}** regime (tan α = "
-        f"{math.tan(math.radians(sc.angle_deg)):.3f} vs 3.5·μ·(1+e) = "
-        f"{3.5 * sc.mu * (1 + sc.e):.3f}); P_ref = Pn_f = {a.score.P_ref:.4g} N·s, "
-        f"Pt_ref = Pt_f = {a.score.Pt_ref:.4g} N·s. Percussions scored from the "
-        f"{a.source} integral of the samples; measured e (Poisson) = "
+        f"{math.tan(math.radians(rs.angle_deg)):.3f} vs {(1 + rs.kappa) / rs.kappa:g}·μ·(1+e) = "
+        f"{(1 + rs.kappa) / rs.kappa * rs.mu * (1 + rs.e):.3f} with μ = {rs.mu:.3g}, "
+        f"e = {rs.e:.3g}); P_ref = Pn_f = {a.score.P_ref:.4g} N·s, "
+        f"Pt_ref = Pt_f = {a.score.Pt_ref:.4g} N·s. Percussions scored from "
+        + (
+            f"the degree-{a.fits.Fn.degree} fit's exact integral"
+            if a.source == "fit"
+            else f"the {a.source} integral of the samples"
+        )
+        + "; measured e (Poisson) = "
         f"{a.split.e_poisson:.4f}. Metrics are dimensionless (of P_ref, Pt_ref), "
         f"± bootstrap standard deviation ({a.score.n_boot} replicates).",
         "",
