@@ -134,12 +134,10 @@ def run(out_dir: Path) -> dict:
 
 
 def _plot(path: Path, result, err_b, err_lm, expected):
-    import matplotlib
+    from matplotlib.figure import Figure  # no pyplot: no global backend or figure state
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(9.0, 3.6), constrained_layout=True)
+    fig = Figure(figsize=(9.0, 3.6), layout="constrained")
+    ax1, ax2 = fig.subplots(1, 2)
     names = ["batched QR", "loop of single fits", "lmfit PolynomialModel"]
     times = [
         result["time_per_fit_s"][k] * 1e6
@@ -164,8 +162,7 @@ def _plot(path: Path, result, err_b, err_lm, expected):
     ax2.set_ylabel("records")
     ax2.legend(fontsize=8)
     with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=150)
-    plt.close(fig)
+        fig.savefig(tmp, dpi=150, format="png")
 
 
 if __name__ == "__main__":
