@@ -123,6 +123,8 @@ def write_sensor(record, path, *, metadata: dict | None = None) -> Path:
             raise InputError(f"metadata value for {key!r} must fit on one line")
         lines.append(f"# {key.strip()}: {text}\n")
 
+    if "Fn" not in record:
+        raise InputError("record has no normal-force channel 'Fn' to write", path=path)
     time = np.asarray(record["time"].values, dtype=float)
     columns = {"time [s]": time}
     for name, column in _WRITE_COLUMNS:
@@ -141,8 +143,6 @@ def write_sensor(record, path, *, metadata: dict | None = None) -> Path:
                 path=path,
             )
         columns[f"{column} [N]"] = values
-    if "Fn [N]" not in columns and "Fz [N]" not in columns:
-        raise InputError("record has no normal-force channel 'Fn' to write", path=path)
     frame = pd.DataFrame(columns)
     body = frame.to_csv(index=False, lineterminator="\n", float_format=None)
     return atomic_write_text(path, "".join(lines) + body)
@@ -442,21 +442,20 @@ def parse_sensor_bytes(
             line=header_line,
         )
     chosen = resolve_axes(force_cols, axes, p, others=other_cols)
-    force_cols = {**other_cols, **force_cols}
-    taken = {col for col, _ in chosen.values()}
-    ignored = [h for key, (_, h, _) in force_cols.items() if key not in taken]
+    columns = {**other_cols, **force_cols}  # every column but time, by name
     t_factor, t_unit = resolve_unit("time", time_col[2], time_unit, path=p, column=time_col[1])
     f_factors = {}
     for name, (col, _) in chosen.items():
-        j, h, unit = force_cols[col]
+        _, h, unit = columns[col]
         f_factors[name] = resolve_unit("force", unit, force_unit, path=p, column=h)
     f_units = {u for _, u in f_factors.values()}
 
     # The body: pandas' C parser, no Python loop over rows.
     wanted = {time_col[0]: "time"}
     for col, _sign in chosen.values():
-        wanted[force_cols[col][0]] = col
+        wanted[columns[col][0]] = col
     names = [wanted.get(j) for j in range(len(raw_names))]
+    ignored = [h for j, h in enumerate(raw_names) if h and j not in wanted]
     shown = [h if names[j] else None for j, h in enumerate(raw_names)]  # for messages
     labels = [f"c{j}" for j in range(len(raw_names))]
     first_line = header_line + 1
