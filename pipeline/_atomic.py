@@ -25,9 +25,10 @@ def atomic_path(path, *, mode: int = 0o644) -> Iterator[Path]:
     such as ``Figure.savefig``, still work) and is removed if the block raises.
     """
     path = Path(os.fspath(path))
-    directory = path.parent if str(path.parent) else Path(".")
-    directory.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=f".tmp{path.suffix}", dir=directory)
+    path.parent.mkdir(parents=True, exist_ok=True)  # Path("r.csv").parent is Path(".")
+    fd, tmp = tempfile.mkstemp(
+        prefix=f".{path.stem}.", suffix=f".tmp{path.suffix}", dir=path.parent
+    )
     os.close(fd)
     try:
         yield Path(tmp)

@@ -72,9 +72,8 @@ def sniff_format(path) -> str:
         raise InputError(f"cannot read the file ({exc.strerror or exc})", path=p) from exc
     if head.startswith(b"TDSm"):
         return "tdms"
-    if not head.strip():
-        if not more:
-            raise InputError("file is empty; export the record again", path=p)
+    if not head.strip() and not more:
+        raise InputError("file is empty; export the record again", path=p)
     if p.suffix.lower() == ".tdms":
         return "tdms"  # read_tdms explains what is wrong with it
     if more and not head.startswith((b"\xff\xfe", b"\xfe\xff")):

@@ -8,6 +8,7 @@ import numbers
 import os
 import re
 import threading
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -173,8 +174,6 @@ def meta_key(key: str) -> str:
 
 def check_plane(forces: dict, path) -> None:
     """Warn (:class:`PlaneImpactWarning`) when max|Fy| > 5 % of max|Fn|."""
-    import warnings
-
     fy = forces.get("Fy")
     fn = forces.get("Fn")
     if fy is None or fn is None or len(fn) == 0:

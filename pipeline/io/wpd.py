@@ -199,7 +199,7 @@ def _parse_datasets(text: str, p: Path) -> dict:
         raise InputError(
             "an 'export all' file needs a row of dataset names and an 'X,Y,...' row", path=p
         )
-    sep, dec = _dialect(lines[1:2] + lines[2:])
+    sep, dec = _dialect(lines[1:])  # not the names row: a name may hold ';' or ','
     (l1, names_line), (l2, xy_line) = lines[0], lines[1]
     heads = [c.strip().strip('"').strip() for c in names_line.split(sep)]
     xy = [c.strip().strip('"').strip().upper() for c in xy_line.split(sep)]
