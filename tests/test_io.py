@@ -334,6 +334,17 @@ def test_undecodable_body_bytes(tmp_path):
     assert err.line == 3
 
 
+def test_utf16_without_bom_and_bad_encoding_argument(tmp_path):
+    """UTF-16 without a BOM decodes as 'UTF-8' with NULs: the message showed a header of
+    NULs; a non-string encoding= raised TypeError."""
+    p = _write(tmp_path, "u16le.csv", "t [s],Fz [N]\n0,1\n1,2\n".encode("utf-16-le"))
+    err = _raises(p, "UTF-16 text without a byte-order mark")
+    assert err.line == 1
+    np.testing.assert_array_equal(read_sensor(p, encoding="utf-16-le")["Fn"].values, [1, 2])
+    with pytest.raises(InputError, match="unknown encoding 5"):
+        read_sensor(p, encoding=5)
+
+
 def test_missing_file_directory_and_scene_fields(tmp_path):
     _raises(tmp_path / "nope.csv", "no such file")
     with pytest.raises(InputError, match="directory"):

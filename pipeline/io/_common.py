@@ -108,8 +108,10 @@ def decode(raw: bytes, path, encoding: str | None = None) -> str:
     if encoding is not None:
         try:
             text = raw.decode(encoding)
-        except LookupError:
-            raise InputError(f"unknown encoding {encoding!r}", path=path) from None
+        except (LookupError, TypeError):
+            raise InputError(
+                f"unknown encoding {encoding!r}; give a codec name such as 'cp1252'", path=path
+            ) from None
         except UnicodeDecodeError as exc:
             line = raw[: exc.start].count(b"\n") + 1
             raise InputError(
@@ -129,7 +131,7 @@ def decode(raw: bytes, path, encoding: str | None = None) -> str:
                 path=path,
             ) from exc
     try:
-        return raw.decode("utf-8-sig")
+        text = raw.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
         line = raw[: exc.start].count(b"\n") + 1
         raise InputError(
@@ -141,6 +143,14 @@ def decode(raw: bytes, path, encoding: str | None = None) -> str:
             path=path,
             line=line,
         ) from exc
+    if "\x00" in text:  # valid UTF-8, but no text file holds NUL characters
+        raise InputError(
+            "holds NUL bytes: UTF-16 text without a byte-order mark, or not a text file; "
+            "re-save it as UTF-8 (or pass encoding='utf-16-le' to the reader)",
+            path=path,
+            line=text[: text.index("\x00")].count("\n") + 1,
+        )
+    return text
 
 
 def scene_attrs(fields: dict) -> dict:
