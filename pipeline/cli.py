@@ -11,6 +11,7 @@ import json
 import logging
 import sys
 import time
+import warnings
 from pathlib import Path
 
 from .errors import InputError
@@ -35,7 +36,7 @@ def _reproduce(args) -> int:
 def _analyse(args) -> int:
     from . import analyse
     from .io import load
-    from .report import _clean, scene_from_sidecar
+    from .report import scene_from_sidecar
     from .scene import Scene
 
     if args.scene:
@@ -48,8 +49,14 @@ def _analyse(args) -> int:
                 "or put a sidecar <record>.json with a 'scene' beside the file",
                 path=args.file,
             )
-    a = analyse(load(args.file), scene, n_boot=args.boot, seed=args.seed)
-    print(json.dumps(_clean(a.summary()), indent=1, allow_nan=False))
+    # the library's warnings (poor fits, fallbacks) reach the user as log lines naming the
+    # problem, not as Python warnings pointing into the library's source
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        a = analyse(load(args.file), scene, n_boot=args.boot, seed=args.seed)
+    for w in caught:
+        logging.getLogger("pipeline").warning("%s: %s", w.category.__name__, w.message)
+    print(json.dumps(a.summary(), indent=1, allow_nan=False))  # strict JSON already
     return 0
 
 

@@ -502,15 +502,20 @@ def fit_polynomial(
     )
     out = batch[0]
     if warn and out.poor:
-        warnings.warn(
-            f"degree-{degree} polynomial fit: the residuals show structure the polynomial "
-            f"misses (runs test z = {out.runs_z:.2f} < {_RUNS_Z:.2f}, one-sided α = "
-            f"{RUNS_ALPHA}; residual RMS {out.rms:.4g} N); try a higher degree, end "
-            "constraints or the smoothing spline",
-            PoorFitWarning,
-            stacklevel=2,
-        )
+        _warn_poor(out, "", stacklevel=3)
     return out
+
+
+def _warn_poor(fit: PolyFit, what: str, stacklevel: int):
+    """The PoorFitWarning of one fit; ``what`` names the channel ("" when unknown)."""
+    warnings.warn(
+        f"{what}degree-{fit.degree} polynomial fit: the residuals show structure the "
+        f"polynomial misses (runs test z = {fit.runs_z:.2f} < {_RUNS_Z:.2f}, one-sided α = "
+        f"{RUNS_ALPHA}; residual RMS {fit.rms:.4g} N); try a higher degree, end "
+        "constraints or the smoothing spline",
+        PoorFitWarning,
+        stacklevel=stacklevel,
+    )
 
 
 @dataclass(frozen=True, eq=False)
@@ -683,6 +688,8 @@ def fit_window(
                 end_constraints=end_constraints,
                 t_start=window.t_start,
                 t_end=window.t_end,
-                warn=warn,
+                warn=False,
             )
+            if warn and out[name].poor:
+                _warn_poor(out[name], f"{name}: ", stacklevel=3)
     return WindowFits(method=method, **out)

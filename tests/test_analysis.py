@@ -224,3 +224,16 @@ def test_record_mu_in_the_sticking_regime():
     assert a.rigid.regime == "sticking"
     assert a.mu_record == pytest.approx(0.3, rel=0.01)
     assert a.rigid_scene.mu == a.mu_record
+
+
+def test_cli_analyse_prints_strict_json_and_logs_the_warnings(capsys, caplog):
+    from pipeline.cli import main
+
+    path = SAMPLES / "gr_15deg_0.6ms.csv"
+    with caplog.at_level("WARNING", logger="pipeline"):
+        assert main(["analyse", str(path), "--boot", "0"]) == 0
+    out = json.loads(capsys.readouterr().out)  # strict JSON: NaN or Infinity would fail
+    assert out["rigid"]["regime"] == "sticking"
+    # the quartics of the dense record are structured: said per channel, as a log line
+    assert any(r.getMessage().startswith("PoorFitWarning: Fn: degree-4") for r in caplog.records)
+    assert main(["analyse", str(SAMPLES / "no_such.csv")]) == 2
