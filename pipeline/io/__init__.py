@@ -77,7 +77,7 @@ def sniff_format(path) -> str:
     if p.suffix.lower() == ".tdms":
         return "tdms"  # read_tdms explains what is wrong with it
     if more and not head.startswith((b"\xff\xfe", b"\xfe\xff")):
-        cut = head.rfind(b"\n")
+        cut = max(head.rfind(b"\n"), head.rfind(b"\r"))  # a whole line: no cut character
         head = head[: cut + 1] if cut > 0 else head
     text = decode(head, p)
     if not text.strip():
