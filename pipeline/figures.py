@@ -24,11 +24,15 @@ Figures here:
 - :func:`fig6_disc_velocity` — analogue of seed Fig. 6: rigid-theory post-impact
   horizontal velocity of a ball dropped on a rotating disc against the disc's surface
   speed, with the kink u* between the sticking and sliding regimes.
+- :func:`fig8_forces` — seed Fig. 8: a record's Fn, Ft samples, their polynomial fits and
+  the fits' residuals.
+- :func:`fig9_percussion_plane` — seed Fig. 9: the measured Pt(Pn) over Routh's broken
+  line (LF, A, S, E1/E2; lines C and T), compression and restitution marked.
 
 References
 ----------
 F.-C. Ciornei et al., MATEC Web Conf. 112, 07005 (2017), doi:10.1051/matecconf/201711207005,
-Figs. 4 and 6. S. Alaci, F. C. Ciornei, C. Filote, J. Balkan Tribol. Assoc. 22(2), 1552 (2016)
+Figs. 4, 6, 8 and 9. S. Alaci, F. C. Ciornei, C. Filote, J. Balkan Tribol. Assoc. 22(2), 1552 (2016)
 (the rotating-disc rig).
 """
 
@@ -59,6 +63,8 @@ __all__ = [
     "panel_label",
     "fig4_percussion_plane",
     "fig6_disc_velocity",
+    "fig8_forces",
+    "fig9_percussion_plane",
     "default_scenes",
     "disc_kinks",
 ]
