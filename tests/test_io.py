@@ -348,16 +348,14 @@ def test_utf16_without_bom_and_bad_encoding_argument(tmp_path):
 def test_sniff_cuts_a_long_bare_cr_file_at_a_line_end(tmp_path):
     """sniff_format reads the first 64 KiB cut at the last LF: a bare-CR file has none, so a
     two-byte character straddling the cut made a valid file 'not valid UTF-8'."""
-    rows, k = ["time [s],Fz [N],note"], 0
-    while len("\r".join(rows).encode()) < 65536 + 10:
-        rows.append(f"{k},{k + 1},é")
-        k += 1
+    rows = ["time [s],Fz [N],note{}"] + [f"{k},{k + 1},é" for k in range(6000)]
     text = "\r".join(rows) + "\r"
-    data = text.encode()
-    # shift by one byte until an 'é' straddles the 65536-byte cut
-    pad = next(i for i in range(4) if data[65535 - i : 65537 - i] == "é".encode())
-    data = data.replace(b"note", b"note" + b" " * pad, 1)
-    assert data[65535:65537] == "é".encode()
+    # pad the header until an 'é' straddles the 65536-byte cut
+    data = next(
+        d
+        for pad in range(20)
+        if (d := text.format(" " * pad).encode())[65535:65537] == "é".encode()
+    )
     rec = load(_write(tmp_path, "long_cr.csv", data))
     assert rec.sizes["time"] == len(rows) - 1
     np.testing.assert_array_equal(rec["Fn"].values[:3], [1.0, 2.0, 3.0])
