@@ -91,12 +91,10 @@ def run(out_dir: Path) -> dict:
 
 
 def _plot(result: dict, path: Path) -> None:
-    import matplotlib
+    from matplotlib.figure import Figure  # no pyplot: no global backend or figure state
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=(5, 3.2))
+    fig = Figure(figsize=(5, 3.2), layout="tight")
+    ax = fig.subplots()
     names = ["pandas.read_csv", "pipeline.io.load"]
     values = [result["pandas_read_csv_s"], result["pipeline_load_s"]]
     ax.bar(names, values, color=["0.6", "tab:blue"])
@@ -104,10 +102,8 @@ def _plot(result: dict, path: Path) -> None:
     ax.set_ylabel("best of 3 [s]")
     ax.set_title(f"{result['rows']:,} rows: load / pandas = {result['ratio']:.2f}")
     ax.legend(loc="upper left", fontsize=8)
-    fig.tight_layout()
     with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=120)
-    plt.close(fig)
+        fig.savefig(tmp, dpi=120, format="png")
 
 
 if __name__ == "__main__":
