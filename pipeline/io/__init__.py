@@ -22,7 +22,7 @@ import re
 
 from ..errors import InputError
 from ..record import validate
-from ._common import decode, file_path, scene_attrs
+from ._common import LINE_END, decode, file_path, scene_attrs
 from .sensor import read_sensor, write_sensor
 from .tdms import read_tdms
 from .wpd import is_datasets_text, read_wpd
@@ -82,7 +82,7 @@ def sniff_format(path) -> str:
     text = decode(head, p)
     if not text.strip():
         raise InputError("file is empty; export the record again", path=p)
-    lines = [ln for ln in re.split(r"\r\n|\n|\r", text) if ln.strip()]
+    lines = [ln for ln in LINE_END.split(text) if ln.strip()]
     first = lines[0].strip()
     if first.startswith("#"):
         return "sensor_csv"

@@ -29,6 +29,8 @@ __all__ = [
     "atomic_write_text",
     "check_plane",
     "meta_key",
+    "first_non_increase",
+    "LINE_END",
 ]
 
 #: Default map from record channel to tri-axial column (the seed's sensor: Oz normal,
@@ -41,6 +43,9 @@ NUMBER = re.compile(r"^[+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?$")
 NONFINITE = re.compile(r"^[+-]?(?:nan|inf|infinity)$", re.IGNORECASE)
 FORCE_NAMES = {"fn": "Fn", "ft": "Ft", "fx": "Fx", "fy": "Fy", "fz": "Fz"}
 FORCE_COLUMNS = tuple(FORCE_NAMES.values())
+
+#: Line ends the readers split on (pandas' C parser does the same): CRLF, LF, bare CR.
+LINE_END = re.compile(r"\r\n|\n|\r")
 
 #: Out-of-plane peak above this fraction of the normal peak triggers PlaneImpactWarning.
 PLANE_TOLERANCE = 0.05
@@ -199,6 +204,16 @@ def check_plane(forces: dict, path) -> None:
             PlaneImpactWarning,
             stacklevel=4,
         )
+
+
+def first_non_increase(t) -> tuple[int, str] | None:
+    """``(i, "repeats" or "goes backwards")`` for the first step ``t[i] → t[i + 1]`` that
+    does not go up; ``None`` when ``t`` strictly increases."""
+    steps = np.diff(t)
+    if np.all(steps > 0):
+        return None
+    i = int(np.argmax(~(steps > 0)))
+    return i, "repeats" if steps[i] == 0 else "goes backwards"
 
 
 def canonical_column(name: str) -> str:

@@ -54,6 +54,7 @@ from ..record import make_record
 from ._common import (
     DEFAULT_AXES,
     FORCE_COLUMNS,
+    LINE_END,
     NONFINITE,
     NUMBER,
     atomic_write_text,
@@ -61,6 +62,7 @@ from ._common import (
     canonical_column,
     check_plane,
     decode,
+    first_non_increase,
     meta_key,
     read_raw,
     resolve_axes,
@@ -197,9 +199,6 @@ def read_sensor(path, *, time_unit=None, force_unit=None, axes=None, encoding=No
 
 
 # --------------------------------------------------------------------- the text parser
-_LINE_END = re.compile(r"\r\n|\n|\r")
-
-
 def _split_head(text: str, p: Path):
     """Metadata, header line and the body's start: a loop over the head lines only."""
     if not text or text.isspace():
@@ -291,7 +290,7 @@ def _data_lines(body: str, first_line: int, sep: str):
     the separator, and a quote opens a quoted cell only at the start of the cell.
     """
     blank = " \t".replace(sep, "")
-    for k, line in enumerate(_LINE_END.split(body)):
+    for k, line in enumerate(LINE_END.split(body)):
         if line.strip(blank):
             yield first_line + k, next(csv.reader([line], delimiter=sep))
 
@@ -508,11 +507,9 @@ def parse_sensor_bytes(
                 column=shown[names.index(key)],
             )
     t = cols["time"] * t_factor if t_factor != 1.0 else cols["time"]
-    steps = np.diff(t)
-    if not np.all(steps > 0):
-        i = int(np.argmax(~(steps > 0)))
+    if (step := first_non_increase(t)) is not None:
+        i, verb = step
         line, _ = _row(body, first_line, sep, i + 1)
-        verb = "repeats" if steps[i] == 0 else "goes backwards"
         raise InputError(
             f"time {verb} ({float(cols['time'][i])!r} then {float(cols['time'][i + 1])!r} "
             f"{t_unit}); time must strictly increase: remove duplicate rows or sort the file",

@@ -31,6 +31,7 @@ from ._common import (
     base_attrs,
     canonical_column,
     check_plane,
+    first_non_increase,
     read_raw,
     resolve_axes,
     scene_attrs,
@@ -305,10 +306,8 @@ def read_tdms(path, *, time_unit=None, force_unit=None, axes=None, group=None, *
     t = t_raw * t_factor
     if not np.all(np.isfinite(t)):
         raise InputError(f"the {where} has NaN or infinite values", path=p)
-    steps = np.diff(t)
-    if not np.all(steps > 0):
-        i = int(np.argmax(~(steps > 0)))
-        verb = "repeats" if steps[i] == 0 else "goes backwards"
+    if (step := first_non_increase(t)) is not None:
+        i, verb = step
         raise InputError(
             f"time {verb} at sample {i + 1} ({float(t_raw[i])!r} then "
             f"{float(t_raw[i + 1])!r} {t_unit}) in the {where}; time must strictly increase",

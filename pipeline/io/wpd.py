@@ -49,7 +49,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..record import FORCE_CHANNELS, make_record
-from ._common import NONFINITE, NUMBER, base_attrs, decode, read_raw, scene_attrs
+from ._common import LINE_END, NONFINITE, NUMBER, base_attrs, decode, read_raw, scene_attrs
 from .units import resolve_unit
 
 __all__ = ["read_wpd", "CHANNEL_SPELLINGS"]
@@ -73,7 +73,6 @@ CHANNEL_SPELLINGS = {
     "Fy": {"fy", "outofplane", "outofplaneforce", "lateral", "lateralforce"},
 }
 
-_LINE_END = re.compile(r"\r\n|\n|\r")
 _UNIT_HINT = {
     "time": " — the unit of the digitised plot's x axis, e.g. time_unit='ms'",
     "force": " — the unit of the digitised plot's y axis, e.g. force_unit='N'",
@@ -132,7 +131,7 @@ def _number(cell: str, dec: str, p: Path, lineno: int, column: str, what: str) -
 
 def _lines(text: str):
     """(1-based line number, line) of the non-blank lines."""
-    return [(k + 1, line) for k, line in enumerate(_LINE_END.split(text)) if line.strip()]
+    return [(k + 1, line) for k, line in enumerate(LINE_END.split(text)) if line.strip()]
 
 
 def _dialect(lines) -> tuple[str, str]:
