@@ -161,11 +161,22 @@ class _Problem:
             return max(self.kel * x * math.sqrt(x) * (1.0 + self.hc_c * u), 0.0)
         return float(self.fn(x, u))
 
+    def fs_raw(self, x, u):
+        """Dimensionless normal force WITHOUT the no-adhesion clip, for scalars, x > 0."""
+        if self.hc_c is not None:
+            return self.kel * x * math.sqrt(x) * (1.0 + self.hc_c * u)
+        raw = contact._RAW_FORCES.get(self.law.name, self.law.force)
+        F = raw(x * self.dstar, u * self.v0, self.param, self.K, self.m_eff, self.v0)
+        return float(F) / self.fscale
+
     def fs_rate(self, x, u):
-        """d(fn)/dτ along the trajectory for scalars (central difference, δτ = 1e-7)."""
-        h = 1e-7
+        """d(fn)/dτ along the trajectory for scalars, x > 0: central difference of the
+        UNCLIPPED law with a step that keeps x ± h·u > 0. (Differencing the clipped force
+        across F = 0, where a dashpot law lets go, halves the rate and made the slide →
+        stick event chatter.)"""
+        h = 1e-7 * min(1.0, 0.5 * x / abs(u)) if u != 0 else 1e-7
         f = self.fs(x, u)
-        return (self.fs(x + h * u, u - h * f) - self.fs(x - h * u, u + h * f)) / (2 * h)
+        return (self.fs_raw(x + h * u, u - h * f) - self.fs_raw(x - h * u, u + h * f)) / (2 * h)
 
     def kts(self, x):
         return self.kt_coef * math.sqrt(x) if x > 0 else 0.0
