@@ -351,7 +351,8 @@ def noise_level(window, fits, name) -> float:
     1.4826·median|Δ²F|/√6 (white noise of σ gives Δ²F of σ√6, the smooth pulse almost
     nothing); else (sparse, digitised) the RMS residual of the GCV smoothing spline,
     which follows the curve where a low-degree polynomial would leave its misfit in the
-    residuals.
+    residuals; with fewer than 5 samples the polynomial fit's residual standard deviation
+    (NaN when the fit interpolates: no estimate).
     """
     sigma = float(window.noise.get(name, float("nan")))
     if np.isfinite(sigma):
@@ -361,17 +362,27 @@ def noise_level(window, fits, name) -> float:
         return float(1.4826 * np.median(np.abs(np.diff(f, 2))) / np.sqrt(6.0))
     if t.size >= 5:
         return float(_fit.fit_spline(t, f, t_start=window.t_start, t_end=window.t_end).rms)
-    return float(getattr(fits, name).rms)
+    return float(getattr(fits, name).sigma)
 
 
 def _bootstrap(win, perc, fits, n_boot, seed) -> dict:
     """Bootstrap replicates ``(Pn, Pt)`` [N·s], each (n_boot, grid), on the percussion grid.
 
     Fit source (residual bootstrap): the polynomial's values plus its resampled residuals,
-    re-fitted in one batched least-squares solve. Sample sources (parametric bootstrap):
-    the samples plus white noise of the channel's :func:`noise_level`, integrated as
-    :func:`pipeline.percussion.percussions` integrates the samples themselves — the spread
-    of an integral of noisy samples, which is what the score's uncertainty is.
+    re-fitted in one batched least-squares solve. The residuals are centred and inflated by
+    √(n/dof) (Davison & Hinkley 1997, §6.2.3: least-squares residuals are smaller than
+    the errors, by (n − p)/n in variance), so the replicates' coefficient covariance is
+    σ̂²(AᵀA)⁻¹, the fit's own; a fit without residual degrees of freedom has nothing to
+    resample and gets no replicates (its score's std stays NaN rather than a false 0).
+    Sample sources (parametric bootstrap): the samples plus white noise of the channel's
+    :func:`noise_level`, integrated as :func:`pipeline.percussion.percussions` integrates
+    the samples themselves — the spread of an integral of noisy samples, which is what the
+    score's uncertainty is (none where the noise level cannot be estimated).
+
+    References
+    ----------
+    A. C. Davison, D. V. Hinkley, Bootstrap Methods and their Application, CUP (1997),
+    doi:10.1017/CBO9780511802843.
     """
     if n_boot <= 0:
         return {}
@@ -383,7 +394,10 @@ def _bootstrap(win, perc, fits, n_boot, seed) -> dict:
         t, f = channel(win.record, name)
         pf = getattr(fits, name)
         base = np.asarray(pf(t))
-        F_b = base + (f - base)[rng.integers(0, t.size, size=(n_boot, t.size))]
+        resid = f - base
+        if pf.dof > 0:
+            resid = (resid - resid.mean()) * np.sqrt(t.size / pf.dof)
+        F_b = base + resid[rng.integers(0, t.size, size=(n_boot, t.size))]
         batch = _fit.fit_polynomials_batch(
             t,
             F_b,
@@ -394,10 +408,18 @@ def _bootstrap(win, perc, fits, n_boot, seed) -> dict:
             warn=False,
         )
         reps["fit"][name] = batch.antiderivative(grid)
-        S_b = f + noise_level(win, fits, name) * rng.standard_normal((n_boot, t.size))
+        sigma = noise_level(win, fits, name)
+        S_b = f + sigma * rng.standard_normal((n_boot, t.size))
         for src in ("trapezoid", "simpson"):
-            reps[src][name] = _perc._raw_on_grid(t, S_b, grid, ts, te, src)
-    return {src: (d["Fn"], d["Ft"]) for src, d in reps.items()}
+            ok = np.isfinite(sigma)
+            reps[src][name] = _perc._raw_on_grid(t, S_b, grid, ts, te, src) if ok else None
+        if not pf.dof > 0:
+            reps["fit"][name] = None
+    return {
+        src: (d["Fn"], d["Ft"])
+        for src, d in reps.items()
+        if d["Fn"] is not None and d["Ft"] is not None
+    }
 
 
 def _boot_for(split, boot, perc) -> tuple | None:
