@@ -1077,7 +1077,9 @@ def impact_outcomes(
     at the default n_steps = 400, for the elastic Hertz and Hunt–Crossley-family laws,
     |Δe_t| < 2e-5 (total rule ≈ 2e-6), |Δe_n| < 1e-6, relative F_max and t_contact < 1e-5;
     e_t errors fall roughly as n_steps⁻² (total rule) and n_steps⁻¹·⁵ (incremental: the
-    stick/slip kinks). The error is one of Pt (|ΔPt| ≲ 2e-5·m*·v_n0); e_t = 1 − Pt/(m*·v_t0)
+    stick/slip kinks). The error is one of Pt (|ΔPt| ≲ 2e-5·m*·v_n0 on those scenes; up to
+    ~5e-5·m*·v_n0 for the incremental rule with heavy damping, e ≈ 0.2, and μ ≈ 1, where the
+    longer contact holds more stick/slip switches); e_t = 1 − Pt/(m*·v_t0)
     magnifies it where v_t0 ≪ v_n0 or the initial slip is mostly spin. Laws whose damping
     grows as δ^{1/4} at first contact (linear dashpot on Hertz, viscoelastic) are not
     smooth there and converge more slowly: at n_steps = 400 and e ≥ 0.05,
