@@ -328,6 +328,21 @@ def test_sensor_bad_line_is_the_one_named(tmp_path, name, content, fragment, lin
     assert err.column == column, str(err)
 
 
+@pytest.mark.parametrize(
+    "content",
+    [
+        "sep=;\ntime [ms];Fz [kN]\n0;1,5\n1;2,5\n",
+        '\ufeff"sep=;"\r\n# a: 1\r\ntime [ms];Fz [kN]\r\n0;1,5\r\n1;2,5\r\n',
+        "sep=\t\ntime [ms]\tFz [kN]\n0\t1,5\n1\t2,5\n",
+    ],
+)
+def test_excel_sep_hint_line(tmp_path, content):
+    """Excel's 'sep=;' first line was taken for the header ('no time column')."""
+    rec = load(_write(tmp_path, "xl.csv", content))
+    np.testing.assert_array_equal(rec["time"].values, [0.0, 1e-3])
+    np.testing.assert_array_equal(rec["Fn"].values, [1500.0, 2500.0])
+
+
 def test_undecodable_body_bytes(tmp_path):
     p = _write(tmp_path, "bytes.csv", b"time [s],Fz [N]\n0,1\n1,\xff\xfe2\n2,3\n")
     err = _raises(p, "not valid UTF-8")

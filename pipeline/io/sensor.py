@@ -13,8 +13,8 @@ The dialect (what :func:`read_sensor` accepts and :func:`write_sensor` writes)::
   ``#`` lines without a key are joined into ``meta_comment``;
 - one header row; each column name carries its unit in ``[...]`` or ``(...)``: ``time [s]``,
   ``t (ms)``, ``t [us]``/``[µs]``/``[μs]``, ``Fz (kN)`` (see :mod:`pipeline.io.units`);
-- separator ``,``, ``;`` or tab (sniffed from the header); decimal point, or decimal comma
-  when the separator is not a comma; UTF-8 with or without BOM (UTF-16 with BOM too);
+- separator ``,``, ``;`` or tab (sniffed from the header, or named by Excel's ``sep=;``
+  first line); decimal point, or decimal comma when the separator is not a comma; UTF-8 with or without BOM (UTF-16 with BOM too);
   CRLF or LF line ends.
 
 Columns: a time column (``time`` or ``t``); force columns ``Fn``/``Ft`` (taken as they are)
@@ -199,11 +199,16 @@ def read_sensor(path, *, time_unit=None, force_unit=None, axes=None, encoding=No
 
 
 # --------------------------------------------------------------------- the text parser
+#: Excel's separator hint, a first line ``sep=;`` (or ``"sep=;"``).
+_SEP_HINT = re.compile(r'^"?sep=([,;\t])"?\r?$')
+
+
 def _split_head(text: str, p: Path):
-    """Metadata, header line and the body's start: a loop over the head lines only."""
+    """Metadata, header line, its number, the body's start and the separator named by an
+    Excel ``sep=`` first line (or None): a loop over the head lines only."""
     if not text or text.isspace():
         raise InputError("file is empty; export the record again", path=p)
-    meta, comments = {}, []
+    meta, comments, sep = {}, [], None
     pos, lineno = 0, 0
     while pos <= len(text):
         nl = text.find("\n", pos)
@@ -212,7 +217,9 @@ def _split_head(text: str, p: Path):
         lineno += 1
         stripped = line.strip(_ASCII_SPACE)  # as the byte scan of _head_and_body
         nxt = len(text) + 1 if nl < 0 else nl + 1
-        if stripped.startswith("#"):
+        if lineno == 1 and (m := _SEP_HINT.match(line)):
+            sep = m.group(1)
+        elif stripped.startswith("#"):
             body = stripped.lstrip("#").strip()
             m = re.match(r"^([^:=]+?)\s*[:=]\s*(.*)$", body)
             if m:
@@ -222,7 +229,7 @@ def _split_head(text: str, p: Path):
         elif stripped:
             if comments:
                 meta.setdefault("meta_comment", "\n".join(comments))
-            return meta, line, lineno, min(nxt, len(text))
+            return meta, line, lineno, min(nxt, len(text)), sep
         pos = nxt
     raise InputError(
         "no header row: the file holds only '#' metadata lines; a sensor CSV needs a header "
@@ -373,7 +380,9 @@ def _head_and_body(raw: bytes, p: Path, encoding):
         nl = raw.find(b"\n", pos)
         end = len(raw) if nl < 0 else nl + 1
         stripped = raw[pos:end].strip()
-        pos = end
+        first, pos = pos == start, end
+        if first and _SEP_HINT.match(raw[start:end].rstrip(b"\n").decode("latin-1")):
+            continue
         if stripped and not stripped.startswith(b"#"):
             break
     head = decode(raw[start:pos], p)
@@ -394,7 +403,7 @@ def parse_sensor_bytes(
 ):
     """Parse the bytes of a sensor CSV (``p`` and ``sha`` for messages and attributes)."""
     raw, head, body_offset, full_text = _head_and_body(raw, p, encoding)
-    meta, header, header_line, body_start = _split_head(head, p)
+    meta, header, header_line, body_start, sep = _split_head(head, p)
     if full_text is not None:
         body = full_text[body_start:]
         body_source = io.StringIO(body)
@@ -403,7 +412,7 @@ def parse_sensor_bytes(
         body_source = io.BytesIO(raw)
         body_source.seek(body_offset)
         body = _LazyText(raw, body_offset, p, header_line)
-    sep = _sniff_separator(header, p, header_line)
+    sep = sep or _sniff_separator(header, p, header_line)
     dec = _sniff_decimal(body[:4096], sep)
     raw_names = [h.strip().strip('"').strip() for h in header.split(sep)]
     time_cols, force_cols, other_cols = [], {}, {}
