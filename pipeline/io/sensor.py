@@ -14,8 +14,8 @@ The dialect (what :func:`read_sensor` accepts and :func:`write_sensor` writes)::
 - one header row; each column name carries its unit in ``[...]`` or ``(...)``: ``time [s]``,
   ``t (ms)``, ``t [us]``/``[µs]``/``[μs]``, ``Fz (kN)`` (see :mod:`pipeline.io.units`);
 - separator ``,``, ``;`` or tab (sniffed from the header, or named by Excel's ``sep=;``
-  first line); decimal point, or decimal comma when the separator is not a comma; UTF-8 with or without BOM (UTF-16 with BOM too);
-  CRLF or LF line ends.
+  first line); decimal point, or decimal comma when the separator is not a comma; UTF-8
+  with or without BOM (UTF-16 with BOM too); CRLF, LF or bare-CR line ends.
 
 Columns: a time column (``time`` or ``t``); force columns ``Fn``/``Ft`` (taken as they are)
 or tri-axial ``Fx``, ``Fy``, ``Fz``, mapped by default as in the seed's sensor (Oz normal,
