@@ -323,6 +323,11 @@ def _make_rhs(pb: _Problem, tangential, history, mode):
     return rhs
 
 
+def _spring_ft(pb: _Problem, history, x, z):
+    """Dimensionless Mindlin spring force of the stored state z (ξ or Ft), for scalars."""
+    return pb.kts(x) * z if history == "total" else z
+
+
 def _ft_of(pb, tangential, history, mode, y):
     """Dimensionless Ft for states y (shape (6, n)) in a mode."""
     x, u, z = y[0], y[1], y[3]
@@ -366,8 +371,7 @@ def _events(pb: _Problem, tangential, history, mode):
             x, u, z = y[0], y[1], y[3]
             if x <= 0:  # past separation: keep the sign, so a real crossing is found
                 return -1.0
-            ft = pb.kts(x) * z if history == "total" else z
-            return pb.mu * pb.fs(x, u) - abs(ft)
+            return pb.mu * pb.fs(x, u) - abs(_spring_ft(pb, history, x, z))
 
         cap.terminal = True
         cap.direction = -1
@@ -454,8 +458,7 @@ def _solve(pb: _Problem, tangential, history, rtol, atol, method):
         if tangential == "coulomb":
             mode = ("stick",)
         elif kind == "stick":  # spring reached the cap: slide in the direction of Ft
-            x, z = y[0], y[3]
-            ft = pb.kts(x) * z if history == "total" else z
+            ft = _spring_ft(pb, history, y[0], y[3])
             mode = ("slide", 1.0 if ft >= 0 else -1.0)
         else:  # leave the cap: stick with the spring exactly at the cap
             sig = mode[1]
