@@ -343,6 +343,22 @@ def test_excel_sep_hint_line(tmp_path, content):
     np.testing.assert_array_equal(rec["Fn"].values, [1500.0, 2500.0])
 
 
+def test_decimal_comma_after_4_kib_of_integers(tmp_path):
+    """The decimal mark is sniffed from the first 4 KiB of the table: a decimal-comma file
+    whose pre-trigger rows are integers ('7;0;0') was refused at its first '0,5'."""
+    pre = "".join(f"{k};0;0\n" for k in range(600))  # > 4096 bytes without a comma
+    text = "t [us];Fx [N];Fz [N]\n" + pre + "600;0,5;1,25\n601;-0,25;2,5\n"
+    rec = load(_write(tmp_path, "late.csv", text))
+    np.testing.assert_array_equal(rec["Fn"].values[-3:], [0.0, 1.25, 2.5])
+    np.testing.assert_array_equal(rec["Ft"].values[-2:], [0.5, -0.25])
+    np.testing.assert_allclose(rec["time"].values[-1], 601e-6, rtol=1e-15)
+    # and the other way round: a comma in a text column, decimal points in the numbers
+    note = "t [us];Fz [N];note\n0;1,5;a,b\n" + "".join(f"{k};2.5;x\n" for k in range(1, 9))
+    _raises(_write(tmp_path, "mixed.csv", note), "'2.5'")  # one file, two decimal marks
+    note = "t [us];Fz [N];note\n0;1.5;a,b\n1;2.5;\n"
+    np.testing.assert_array_equal(load(_write(tmp_path, "pt.csv", note))["Fn"].values, [1.5, 2.5])
+
+
 def test_undecodable_body_bytes(tmp_path):
     p = _write(tmp_path, "bytes.csv", b"time [s],Fz [N]\n0,1\n1,\xff\xfe2\n2,3\n")
     err = _raises(p, "not valid UTF-8")

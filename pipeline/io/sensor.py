@@ -39,6 +39,7 @@ parse shows a problem does a slower pass locate the exact line and column for th
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import io
 import itertools
@@ -467,15 +468,23 @@ def parse_sensor_bytes(
     shown = [h if names[j] else None for j, h in enumerate(raw_names)]  # for messages
     labels = [f"c{j}" for j in range(len(raw_names))]
     first_line = header_line + 1
-    try:
+    parse_errors = (
+        ValueError,
+        pd.errors.ParserError,
+        pd.errors.EmptyDataError,
+        pd.errors.ParserWarning,
+    )
+
+    def parse(decimal):
+        body_source.seek(0 if full_text is not None else body_offset)
         with warnings.catch_warnings():
             # pandas only warns when every row has more fields than the header and then
             # drops data: make that an error
             warnings.simplefilter("error", pd.errors.ParserWarning)
-            frame = pd.read_csv(
+            return pd.read_csv(
                 body_source,
                 sep=sep,
-                decimal=dec,
+                decimal=decimal,
                 header=None,
                 names=labels,
                 index_col=False,
@@ -484,13 +493,18 @@ def parse_sensor_bytes(
                 engine="c",
                 skip_blank_lines=True,
             )
-    except (
-        ValueError,
-        pd.errors.ParserError,
-        pd.errors.EmptyDataError,
-        pd.errors.ParserWarning,
-    ) as exc:
-        _diagnose(str(body), first_line, sep, dec, shown, p, exc)
+
+    try:
+        frame = parse(dec)
+    except parse_errors as exc:
+        # The decimal mark is sniffed from the first 4 KiB: integers there ("0;0") hide a
+        # decimal comma further down. The other mark is taken only if every cell reads.
+        frame = None
+        if sep != ",":
+            with contextlib.suppress(*parse_errors):
+                frame = parse("," if dec == "." else ".")
+        if frame is None:
+            _diagnose(str(body), first_line, sep, dec, shown, p, exc)
     n = len(frame)
     if n == 0:
         raise InputError("header only: the file has no data rows", path=p, line=header_line)
