@@ -718,6 +718,17 @@ def test_tdms_duplicate_force_channel_and_temperature_channel(tmp_path):
     _raises(_tdms(tmp_path / "times.tdms", times), "several time channels")
 
 
+def test_tdms_time_unit_supplies_a_missing_wf_xunit_string(tmp_path):
+    """Without wf_xunit_string the file carries no time unit: time_unit= supplies it (it
+    clashed with an assumed 's'); with neither, NI's default, seconds."""
+    wf = {"wf_start_offset": 0.0, "wf_increment": 2.0, "wf_samples": 3, "unit_string": "N"}
+    p = _tdms(tmp_path / "nox.tdms", [("Fz", [1.0, 2.0, 3.0], wf)])
+    np.testing.assert_allclose(load(p, time_unit="ms")["time"].values, [0, 2e-3, 4e-3], rtol=1e-15)
+    np.testing.assert_allclose(load(p)["time"].values, [0.0, 2.0, 4.0], rtol=1e-15)
+    q = _tdms(tmp_path / "x.tdms", [("Fz", [1.0, 2.0, 3.0], {**wf, "wf_xunit_string": "s"})])
+    _raises(q, "units in the file win", time_unit="ms")
+
+
 def test_tdms_corrupt_and_not_tdms(tmp_path):
     good = (SAMPLES / "sensor.tdms").read_bytes()
     p = _write(tmp_path, "cut.tdms", good[: len(good) // 2])

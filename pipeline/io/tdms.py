@@ -8,7 +8,8 @@ Fx → Ft, Fy → Fy; ``axes=`` overrides, see :mod:`pipeline.io.sensor`).
 Time: a channel named ``time`` (or ``t``) in the group when there is one (unit from its
 ``unit_string`` property); otherwise the waveform properties of the force channels —
 ``wf_start_offset`` + k·``wf_increment`` for k < ``wf_samples`` (npTDMS's
-``channel.time_track()``), in ``wf_xunit_string`` (NI's default: seconds). All force
+``channel.time_track()``), in ``wf_xunit_string`` (when absent: ``time_unit=``, else NI's
+default, seconds). All force
 channels must share one time track. Units come from each channel's ``unit_string``
 property, or else from a unit in its name (``Fz (kN)``; a name and a property that disagree
 are an error); ``force_unit=``/``time_unit=`` supply one where the file has none. Two
@@ -289,13 +290,9 @@ def read_tdms(path, *, time_unit=None, force_unit=None, axes=None, group=None, *
                 path=p,
             )
         ch0 = force_chs[next(iter(chosen.values()))[0]]
-        t_factor, t_unit = resolve_unit(
-            "time",
-            _prop(ch0, "wf_xunit_string", "s") or "s",
-            time_unit,
-            path=p,
-            column=ch0.name,
-        )
+        # no wf_xunit_string: time_unit= supplies it, else NI's default, seconds
+        xunit = _prop(ch0, "wf_xunit_string") or (None if time_unit is not None else "s")
+        t_factor, t_unit = resolve_unit("time", xunit, time_unit, path=p, column=ch0.name)
         where = "waveform time track"
     if t_raw.size != n:
         raise InputError(f"the {where} has {t_raw.size} samples but the force channels {n}", path=p)
