@@ -710,7 +710,7 @@ def fig9_percussion_plane(analysis) -> Figure:
             v[:, 0],
             v[:, 1],
             "-",
-            lw=2.0,
+            lw=3.2,  # wider than the measured curve, which may lie right on it (Coulomb)
             color=COLORS["rigid"],
             gid="rigid-line",
             label="rigid body hypothesis",
@@ -718,37 +718,32 @@ def fig9_percussion_plane(analysis) -> Figure:
         )
         ax.plot(v[-1, 0], v[-1, 1], "o", ms=4, color=COLORS["rigid"])
         sticking = rig.regime == "sticking"
-        ax.text(
-            v[-1, 0],
-            v[-1, 1],
-            r"$E_2$ " if sticking else r"$E_1$ ",
-            ha="right",
-            va="bottom",
-            color=COLORS["rigid"],
-        )
-        # the seed's names of the rigid lines: LF (slope μ) on its upper-left side, where
-        # the measured curve (which leaves LF towards larger Pt) does not run; S beside
-        # the vertical sticking segment
-        lf_end = v[1] if sticking else v[-1]
-        ax.text(
-            0.45 * lf_end[0],
-            0.45 * lf_end[1],
-            "LF  ",
-            ha="right",
-            va="bottom",
-            color=COLORS["rigid"],
-        )
-        if sticking:
-            ax.plot(v[1, 0], v[1, 1], "s", ms=3.5, color=COLORS["rigid"])
-            ax.text(v[1, 0], v[1, 1], "A  ", ha="right", va="bottom", color=COLORS["rigid"])
-            ax.text(
-                v[1, 0],
-                0.5 * (v[1, 1] + v[-1, 1]),
-                "(S) ",
-                ha="right",
-                va="center",
+
+        def tag(text, xy, dx, dy, ha, va):  # a label offset from its point [pt], glyphs only
+            ax.annotate(
+                text,
+                xy,
+                xytext=(dx, dy),
+                textcoords="offset points",
+                ha=ha,
+                va=va,
                 color=COLORS["rigid"],
             )
+
+        tag(r"$E_2$" if sticking else r"$E_1$", v[-1], -4, 2, "right", "bottom")
+        # the seed's names of the rigid lines: LF (slope μ) on the side of the line away
+        # from the measured curve; S beside the vertical sticking segment, between C (or A)
+        # and T, clear of the dashed line C
+        lf_end = v[1] if sticking else v[-1]
+        at = 0.45 * lf_end
+        if np.interp(at[1], Pn, Pt) < at[0]:  # the measured curve runs left of LF
+            tag("LF", at, 6, -2, "left", "top")
+        else:
+            tag("LF", at, -6, 2, "right", "bottom")
+        if sticking:
+            ax.plot(v[1, 0], v[1, 1], "s", ms=3.5, color=COLORS["rigid"])
+            tag("A", v[1], -5, 2, "right", "bottom")
+            tag("(S)", (v[1, 0], 0.5 * (max(v[1, 1], Pn_c) + v[-1, 1])), -5, 0, "right", "center")
         ax.plot(
             np.where(comp, Pt, np.nan),
             np.where(comp, Pn, np.nan),
@@ -779,14 +774,16 @@ def fig9_percussion_plane(analysis) -> Figure:
             label=f"degree-{a.fits.Ft.degree} fit (seed's method)",
         )
         i = int(np.argmax(Pt))
-        ax.plot(Pt[i], Pn[i], "v", ms=5, color=COLORS["accent"], gid="Pt-max", zorder=6)
-        ax.annotate(
-            r"max $P_t$",
-            (Pt[i], Pn[i]),
-            xytext=(-6, 4),
-            textcoords="offset points",
-            ha="right",
-            fontsize=7,
+        ax.plot(
+            Pt[i],
+            Pn[i],
+            "v",
+            ms=5,
+            color=COLORS["accent"],
+            gid="Pt-max",
+            zorder=6,
+            ls="none",
+            label=r"maximum of the measured $P_t$",  # in the legend: no text on the curves
         )
         ax.set_xlim(0, x_hi)
         ax.set_ylim(0, y_hi)

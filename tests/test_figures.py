@@ -232,9 +232,25 @@ def test_fig9_names_the_rigid_lines_and_states_the_mu_it_drew(sticking_analysis)
     # the title quotes the μ and e the broken line was drawn with
     assert f"μ = {a.rigid_scene.mu:.3g}" in ax.get_title()
     assert f"e = {a.rigid_scene.e:.3g}" in ax.get_title()
-    labels = [t for t, _ in _rendered_text_boxes(ax)]
+    boxes = _rendered_text_boxes(ax)
+    labels = [t for t, _ in boxes]
     for name in ("LF", "(S)", "A", "$E_2$", "(C)", "(T)"):
         assert any(t.strip() == name for t in labels), name
+    # no label lies on the measured curve (nor on another label)
+    curve = np.vstack(
+        [
+            _xy(line)
+            for gid in ("measured-compression", "measured-restitution")
+            for line in _by_gid(fig, gid)
+        ]
+    )
+    pts = ax.transData.transform(curve[np.all(np.isfinite(curve), axis=1)])
+    for text, b in boxes:
+        inside = (pts[:, 0] > b.x0) & (pts[:, 0] < b.x1) & (pts[:, 1] > b.y0) & (pts[:, 1] < b.y1)
+        assert not inside.any(), text
+    for i, (ta, a) in enumerate(boxes):
+        for tb, b in boxes[i + 1 :]:
+            assert not a.overlaps(b), (ta, tb)
 
 
 def test_fig8_legend_clear_of_the_data(sticking_analysis):
