@@ -495,7 +495,7 @@ def fig6_disc_velocity(scene: Scene = None, surface_speeds=None) -> Figure:
     kap = float(scene.kappa)
     m_ratio = float(np.asarray(res.m_eff).flat[0]) / float(scene.m)
     shift = float(scene.spin) * float(scene.radius)
-    U = (1 + kap) / kap * float(scene.mu) * (1 + float(scene.e)) * float(scene.v_n0)
+    U = kinks[1] + shift  # u* without the spin's shift: (1+κ)/κ·μ(1+e)·v_n0
     plateau = kap / (1 + kap) * m_ratio * U  # = μ(1+e)·(m*/m)·v'
     vx_k = np.array([float(np.asarray(vx)[np.searchsorted(u, k)]) for k in inside], dtype=float)
 
