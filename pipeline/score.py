@@ -132,6 +132,13 @@ class DeviationScore:
         }
 
 
+def _spread(v) -> float:
+    """Standard deviation (ddof 1) of the finite replicates; NaN with fewer than two."""
+    v = np.asarray(v, dtype=float)
+    v = v[np.isfinite(v)]
+    return float(np.std(v, ddof=1)) if v.size >= 2 else float("nan")
+
+
 def _j(x):
     x = float(x)
     return x if np.isfinite(x) else None
@@ -249,7 +256,7 @@ def deviation_score(time, Pn, Pt, rigid, Pn_c, *, boot=None, source="simpson") -
     values = {p: {k: float(v) for k, v in m[p].items()} for p in PHASES}
     if boot is not None:
         mb = deviation_metrics(time, boot[0], boot[1], rigid, boot[2])
-        std = {p: {k: float(np.nanstd(v, ddof=1)) for k, v in mb[p].items()} for p in PHASES}
+        std = {p: {k: _spread(v) for k, v in mb[p].items()} for p in PHASES}
         n_boot = int(np.shape(boot[0])[0])
     else:
         std = {p: dict.fromkeys(METRICS, float("nan")) for p in PHASES}

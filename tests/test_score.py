@@ -156,3 +156,19 @@ def test_score_of_single_curve_without_bootstrap_has_nan_std():
     s = deviation_score(np.linspace(0, 1, 100), Pn, float(rig.mu) * Pn, rig, float(rig.Pn_c))
     assert s.n_boot == 0 and np.isnan(s.std["total"]["area"])
     assert s["area"] == pytest.approx(0.0, abs=1e-12)
+
+
+def test_bootstrap_std_of_an_empty_phase_is_nan_without_warnings():
+    # every replicate ends before maximum compression (Pn_c above the whole curve): the
+    # restitution phase is empty, its metrics NaN, and their spread NaN — not a RuntimeWarning
+    rig = sphere_on_plane(_line_scene(70.0))
+    Pn = np.linspace(0, float(rig.Pn_f), 50)
+    Pt = float(rig.mu) * Pn
+    boot = (np.tile(Pn, (5, 1)), np.tile(Pt, (5, 1)) * np.linspace(0.9, 1.1, 5)[:, None])
+    s = deviation_score(
+        np.linspace(0, 1, 50), Pn, Pt, rig, 2 * float(rig.Pn_f), boot=boot + (np.full(5, 2.0),)
+    )
+    assert np.isnan(s.std["restitution"]["area"]) and np.isnan(s.values["restitution"]["area"])
+    # compression: Pt_max spreads as the replicates' scale, std of 0.9…1.1 × Pt_max
+    want = np.std(np.linspace(0.9, 1.1, 5), ddof=1) * s.values["compression"]["Pt_max"]
+    assert s.std["compression"]["Pt_max"] == pytest.approx(want, rel=1e-9)
