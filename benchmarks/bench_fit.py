@@ -145,6 +145,7 @@ def _plot(path: Path, result, err_b, err_lm, expected):
     ]
     bars = ax1.bar(names, times, color=["tab:green", "tab:blue", "tab:gray"])
     ax1.set_yscale("log")
+    ax1.set_ylim(top=3.0 * max(times))  # room for the value above the tallest bar
     ax1.set_ylabel("time per fit [µs]")
     ax1.set_title(
         f"quartic fits, {result['records']} records × {result['samples_per_record']} samples"
