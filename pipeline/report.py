@@ -120,7 +120,8 @@ def findings(a: Analysis) -> Findings:
     )
     t3 = (
         f"Pt peaks at {_pm(sc, 'total', 'Pt_max')} × Pt_ref where Pn = "
-        f"{_pm(sc, 'total', 'Pn_at_Pt_max')} × P_ref (t = {sc.t_Pt_max * 1e6:.1f} µs), then "
+        f"{_pm(sc, 'total', 'Pn_at_Pt_max')} × P_ref "
+        f"({(sc.t_Pt_max - a.window.t_start) * 1e6:.1f} µs after contact start), then "
         f"falls by {_pm(sc, 'total', 'Pt_drop')} × Pt_ref: "
         + ("**holds**." if three else "**does not hold**.")
     )
