@@ -1,8 +1,9 @@
 """Fuzzing the readers, and the netCDF round trip of every format.
 
-Property: whatever bytes a file holds, ``pipeline.io.load`` either returns a record that
+Properties: whatever bytes a file holds, ``pipeline.io.load`` either returns a record that
 passes ``pipeline.record.validate`` or raises ``InputError`` — never another exception,
 never a bare pandas/numpy/npTDMS traceback.
+And a valid sensor CSV in any accepted dialect loads to the values written in it, in SI.
 """
 
 from __future__ import annotations
@@ -200,3 +201,72 @@ def test_netcdf_round_trip_loses_nothing(tmp_path, source, kwargs):
     for name in rec.variables:
         assert back[name].dtype == rec[name].dtype, name
         assert back[name].attrs == rec[name].attrs, name
+
+
+# ------------------------------------------------------------- valid dialects, known values
+TIME_UNITS = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "µs": 1e-6, "μs": 1e-6, "ns": 1e-9}
+FORCE_UNITS = {"N": 1.0, "kN": 1e3, "mN": 1e-3, "daN": 10.0}
+
+
+@st.composite
+def sensor_dialect(draw):
+    """A valid sensor CSV in a random dialect, and the SI values it holds."""
+    sep = draw(st.sampled_from([",", ";", "\t"]))
+    dec = "." if sep == "," else draw(st.sampled_from([".", ","]))
+    t_unit = draw(st.sampled_from(sorted(TIME_UNITS)))
+    f_unit = draw(st.sampled_from(sorted(FORCE_UNITS)))
+    n = draw(st.integers(2, 12))
+    # values exactly representable as short decimals: the text is the ground truth
+    t = np.cumsum(draw(st.lists(st.integers(1, 999), min_size=n, max_size=n))) / 8
+    fz = np.array(draw(st.lists(st.integers(-9999, 99999), min_size=n, max_size=n))) / 4
+    fx = np.array(draw(st.lists(st.integers(-999, 999), min_size=n, max_size=n))) / 16
+
+    def num(v):
+        text = repr(float(v))
+        if draw(st.booleans()) and v != 0:
+            text = f"{v:.6E}"  # scientific notation, 1,250000E-03 in a decimal-comma file
+        text = text.replace(".", dec)
+        return f'"{text}"' if draw(st.integers(0, 9)) == 0 else text  # Excel quoting
+
+    bracket = draw(st.sampled_from(["[{}]", "({})", " [{}]", " ({})"]))
+    space = draw(st.sampled_from(["", " "]))
+    tname = draw(st.sampled_from(["time", "Time", "t", "T"]))
+    cols = [f"{tname}{space}{bracket.format(t_unit).strip()}"]
+    cols += [
+        f"Fx{space}{bracket.format(f_unit).strip()}",
+        f"Fz{space}{bracket.format(f_unit).strip()}",
+    ]
+    extra = draw(st.booleans())
+    if extra:
+        cols.append("T [°C]")  # a temperature: not a second time column
+    trail = sep if draw(st.booleans()) else ""
+    rows = []
+    for k in range(n):
+        cells = [num(t[k]), num(fx[k]), num(fz[k])] + (["21" + dec + "5"] if extra else [])
+        rows.append(sep.join(cells) + trail)
+        if draw(st.integers(0, 5)) == 0:
+            rows.append(draw(st.sampled_from(["", " ", "  "])))  # blank line inside the table
+    meta = draw(st.lists(st.sampled_from(["# operator: A. Lab", "# rate = 1 MHz", "# note"])))
+    excel = [f"sep={sep}"] if draw(st.booleans()) else []
+    eol = draw(st.sampled_from(["\n", "\r\n", "\r"]))
+    text = eol.join(excel + meta + [sep.join(cols) + trail] + rows) + eol
+    encoding = draw(st.sampled_from(["utf-8", "utf-8-sig", "utf-16"]))
+    truth = {"time": t * TIME_UNITS[t_unit], "Fn": fz * FORCE_UNITS[f_unit]}
+    truth["Ft"] = fx * FORCE_UNITS[f_unit]
+    return text.encode(encoding), truth
+
+
+@settings(max_examples=400, deadline=None)
+@given(sensor_dialect())
+def test_valid_sensor_dialects_load_to_known_si_values(case):
+    """Odd but valid dialects (units with or without a space, µ/μ, decimal comma with
+    scientific notation, Excel quoting and sep= line, trailing separators, blank lines in
+    the table, a temperature column 'T [°C]', CR/LF/CRLF, BOM, UTF-16) load to the values
+    written, converted to SI."""
+    data, truth = case
+    path = _TMP / "dialect.csv"
+    path.write_bytes(data)
+    rec = load(path)
+    np.testing.assert_allclose(rec["time"].values, truth["time"], rtol=1e-15, atol=0)
+    np.testing.assert_allclose(rec["Fn"].values, truth["Fn"], rtol=1e-15, atol=0)
+    np.testing.assert_allclose(rec["Ft"].values, truth["Ft"], rtol=1e-15, atol=0)
