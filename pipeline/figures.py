@@ -220,7 +220,14 @@ def _draw_plane(ax, results, names, colors, limits=None, seed_labels=True):
     ax.plot([Pt_S, Pt_S], [0, y_hi], ls="-", lw=0.9, color=grey, gid="line-S")
     ax.text(0.98 * x_hi, Pn_c, "(C)", va="bottom", ha="right", color=grey)
     ax.text(0.98 * x_hi, Pn_f, "(T)", va="bottom", ha="right", color=grey)
-    ax.text(Pt_S, 0.985 * y_hi, " (S)", va="top", ha="left", color=grey)
+    # (S) at the top of its line, unless a friction ray crosses S there (steep LF with a
+    # small sticking abscissa): then right of S between C and T, where only the β ray runs
+    y_s = 0.985 * y_hi
+    for res in results:
+        mu = float(res.mu)
+        if mu > 0 and abs(Pt_S / mu - 0.95 * y_hi) < 0.12 * y_hi:
+            y_s = 0.5 * (Pn_c + Pn_f)
+    ax.text(Pt_S, y_s, " (S)", va="top" if y_s > Pn_f else "center", ha="left", color=grey)
     ax.plot([0, Pt_S], [0, Pn_f], ls=":", lw=0.9, color=grey, gid="ray-beta")
 
     arc_r = 0.42 * Pn_c
@@ -230,7 +237,9 @@ def _draw_plane(ax, results, names, colors, limits=None, seed_labels=True):
         tag = f"{k + 1}" if len(results) > 1 else ""
         # LF: full ray (thin), the travelled part bold
         Pn_end_ray = min(y_hi, x_hi / mu) if mu > 0 else y_hi
-        ax.plot([0, mu * Pn_end_ray], [0, Pn_end_ray], lw=0.7, color=col, alpha=0.6)
+        ax.plot(
+            [0, mu * Pn_end_ray], [0, Pn_end_ray], lw=0.7, color=col, alpha=0.6, gid=f"lf-{name}"
+        )
         txt_n = 0.93 * Pn_end_ray
         ax.text(
             mu * txt_n,

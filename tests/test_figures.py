@@ -87,6 +87,32 @@ def test_fig4_two_panels_when_constructions_differ():
     assert p_sl.axes.get_ylim() == p_st.axes.get_ylim()
 
 
+@pytest.mark.parametrize("angle", [65.0, 40.0])  # one panel (the seed's); two panels
+def test_fig4_labels_clear_of_the_friction_rays(angle):
+    # a steep LF ray (μ = 0.2) crossing S near the top used to run through the "(S)" label
+    d = default_scenes()
+    fig = fig4_percussion_plane(d["fig4_sliding"], d["fig4_sticking"].replace(angle_deg=angle))
+    for ax in {line.axes for g in ("path-sliding", "path-sticking") for line in _by_gid(fig, g)}:
+        boxes = dict((t.strip(), b) for t, b in _rendered_text_boxes(ax))
+        for line in ax.get_lines():
+            if not str(line.get_gid()).startswith("lf-"):
+                continue
+            (x0, y0), (x1, y1) = _xy(line)
+            s = np.linspace(0, 1, 400)[:, None]
+            pts = ax.transData.transform(
+                np.column_stack([x0 + s[:, 0] * (x1 - x0), y0 + s[:, 0] * (y1 - y0)])
+            )
+            for name in ("(S)", "(C)", "(T)"):
+                b = boxes[name]
+                inside = (
+                    (pts[:, 0] > b.x0)
+                    & (pts[:, 0] < b.x1)
+                    & (pts[:, 1] > b.y0)
+                    & (pts[:, 1] < b.y1)
+                )
+                assert not inside.any(), (angle, line.get_gid(), name)
+
+
 def test_fig4_rejects_a_scene_in_the_wrong_regime():
     d = default_scenes()
     with pytest.raises(InputError, match="scene_sliding is in the sticking regime"):
