@@ -244,7 +244,8 @@ def analyse(
     split_method : str
         How maximum compression is found (:func:`pipeline.percussion.compression_split`).
     n_boot : int
-        Residual-bootstrap replicates for the score's uncertainties (0: none).
+        Bootstrap replicates for the score's uncertainties (0: none): residual bootstrap of
+        the fits, parametric (noise) bootstrap of the samples (see ``_bootstrap``).
     seed : int
         Seed of the bootstrap.
     window_options : dict, optional
