@@ -17,7 +17,6 @@ beside the primary one, so the cost of the quartic is visible.
 from __future__ import annotations
 
 import json
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -31,6 +30,7 @@ from . import window as _window
 from .errors import InputError
 from .record import channel
 from .scene import Scene
+from .window import _json_ready as _clean  # strict JSON: NaN → None, inf → "inf"
 
 __all__ = ["Analysis", "analyse", "estimate_mu", "noise_level", "MIN_SAMPLES"]
 
@@ -162,23 +162,6 @@ class Analysis:
 
 def _jsonable(v):
     return isinstance(v, (int, float, str, bool, type(None)))
-
-
-def _clean(o):
-    """Strict JSON: NaN becomes None, ±inf the strings "inf"/"-inf" (as in the sample
-    sidecars, which :func:`pipeline.report.scene_from_sidecar` reads back), numpy scalars
-    and arrays plain numbers and lists."""
-    if isinstance(o, dict):
-        return {str(k): _clean(v) for k, v in o.items()}
-    if isinstance(o, (list, tuple)):
-        return [_clean(v) for v in o]
-    if isinstance(o, np.ndarray):
-        return _clean(o.tolist())
-    if isinstance(o, np.generic):
-        o = o.item()
-    if isinstance(o, float) and not math.isfinite(o):
-        return None if math.isnan(o) else ("inf" if o > 0 else "-inf")
-    return o
 
 
 def estimate_mu(window, t_c: float, *, level: float = 0.3, band: float = 0.1) -> float:

@@ -70,17 +70,22 @@ _MAD_TO_SIGMA = 1.0 / special.ndtri(0.75)
 
 
 def _json_ready(obj):
-    """Plain-Python copy of ``obj`` for json: NaN/inf → None, numpy → float/int/list."""
+    """Plain-Python copy of ``obj`` for strict JSON (the one converter every summary uses).
+
+    numpy scalars and arrays become numbers and lists; NaN becomes None; ±inf the strings
+    ``"inf"``/``"-inf"`` (as in the sample sidecars, which
+    :func:`pipeline.report.scene_from_sidecar` reads back with ``float``).
+    """
     if isinstance(obj, dict):
         return {str(k): _json_ready(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple, np.ndarray)):
+    if isinstance(obj, np.ndarray):
+        return _json_ready(obj.tolist())
+    if isinstance(obj, (list, tuple)):
         return [_json_ready(v) for v in obj]
-    if isinstance(obj, (bool, np.bool_)):
-        return bool(obj)
-    if isinstance(obj, (int, np.integer)):
-        return int(obj)
-    if isinstance(obj, (float, np.floating)):
-        return float(obj) if np.isfinite(obj) else None
+    if isinstance(obj, np.generic):
+        obj = obj.item()
+    if isinstance(obj, float) and not np.isfinite(obj):
+        return None if np.isnan(obj) else ("inf" if obj > 0 else "-inf")
     return obj
 
 
