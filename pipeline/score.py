@@ -68,6 +68,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .window import _json_ready
+
 __all__ = ["METRICS", "PHASES", "DeviationScore", "deviation_metrics", "deviation_score"]
 
 #: Names of the dimensionless deviation metrics.
@@ -114,22 +116,24 @@ class DeviationScore:
         return self.values["total"][metric]
 
     def summary(self) -> dict:
-        """JSON-ready dict: values with their bootstrap standard deviations."""
-        return {
-            "source": self.source,
-            "P_ref_Ns": self.P_ref,
-            "Pt_ref_Ns": self.Pt_ref,
-            "Pn_c_Ns": self.Pn_c,
-            "t_Pt_max_s": self.t_Pt_max,
-            "n_boot": self.n_boot,
-            **{
-                phase: {
-                    m: {"value": _j(self.values[phase][m]), "std": _j(self.std[phase][m])}
-                    for m in METRICS
-                }
-                for phase in PHASES
-            },
-        }
+        """JSON-ready dict: values with their bootstrap standard deviations (NaN → None)."""
+        return _json_ready(
+            {
+                "source": self.source,
+                "P_ref_Ns": self.P_ref,
+                "Pt_ref_Ns": self.Pt_ref,
+                "Pn_c_Ns": self.Pn_c,
+                "t_Pt_max_s": self.t_Pt_max,
+                "n_boot": self.n_boot,
+                **{
+                    phase: {
+                        m: {"value": self.values[phase][m], "std": self.std[phase][m]}
+                        for m in METRICS
+                    }
+                    for phase in PHASES
+                },
+            }
+        )
 
 
 def _spread(v) -> float:
@@ -137,11 +141,6 @@ def _spread(v) -> float:
     v = np.asarray(v, dtype=float)
     v = v[np.isfinite(v)]
     return float(np.std(v, ddof=1)) if v.size >= 2 else float("nan")
-
-
-def _j(x):
-    x = float(x)
-    return x if np.isfinite(x) else None
 
 
 def references(rigid) -> tuple[float, float]:
