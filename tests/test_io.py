@@ -320,6 +320,24 @@ def test_bare_cr_line_ends(tmp_path, content, eol, encoding):
         ("thou.csv", "t [ms];Fz [N]\n0;1\n1;1.234,5\n", "no thousands separators", 3, "Fz [N]"),
         # a lone trailing separator is tolerated: the bad cell is on line 3, not line 2
         ("trail.csv", "time [s],Fz [N]\n0,1,\n1,abc,\n", "'abc'", 3, "Fz [N]"),
+        # a quoted note spanning two lines: the bad row is on line 5, not 4
+        (
+            "ml.csv",
+            'time [s],Fz [N],note\n0,1,"a\nb"\n1,2,x\n0.5,3,y\n',
+            "backwards",
+            5,
+            "time [s]",
+        ),
+        # a quote never closed: pandas only said 'EOF inside string', no line
+        ("quote.csv", 'time [s],Fz [N]\n0,1\n1,"2\n2,3\n3,4\n', "never closed", 3, None),
+        # ... and past csv's 128 KiB field limit: a csv.Error escaped
+        (
+            "quote_big.csv",
+            'time [s],Fz [N]\n0,1\n1,"2\n' + "".join(f"{k},{k}\n" for k in range(2, 30000)),
+            "never closed",
+            3,
+            None,
+        ),
     ],
 )
 def test_sensor_bad_line_is_the_one_named(tmp_path, name, content, fragment, line, column):

@@ -39,6 +39,7 @@ parse shows a problem does a slower pass locate the exact line and column for th
 
 from __future__ import annotations
 
+import collections
 import contextlib
 import csv
 import io
@@ -292,20 +293,34 @@ _ASCII_SPACE = " \t\n\v\f\r"
 
 
 def _data_lines(body: str, first_line: int, sep: str):
-    """(line number, cells) of every body line pandas reads as a row (error path only).
+    """(line number, cells) of every row pandas reads from the body (error path only);
+    cells ``None`` for a row whose quote is never closed (it runs to the end).
 
     As in pandas' C parser, a line is blank when it holds only spaces and tabs other than
-    the separator, and a quote opens a quoted cell only at the start of the cell.
+    the separator, a quote opens a quoted cell only at the start of a cell, and a quoted
+    cell may span lines (the row's number is that of its first line).
     """
     blank = " \t".replace(sep, "")
-    for k, line in enumerate(LINE_END.split(body)):
-        if line.strip(blank):
-            yield first_line + k, next(csv.reader([line], delimiter=sep))
+    lines = LINE_END.split(body)
+    reader = csv.reader(lines, delimiter=sep)
+    while True:
+        k = reader.line_num  # lines consumed so far: the row starts at lines[k]
+        try:
+            cells = next(reader, None)
+        except csv.Error:  # a quoted cell past csv's field size limit: a quote never closed
+            yield first_line + k, None
+            return
+        if cells is None:
+            return
+        if reader.line_num - k > 1 or lines[k].strip(blank):
+            yield first_line + k, cells
 
 
-def _row(body, first_line: int, sep: str, row: int) -> tuple[int, list]:
-    """(line number, cells) of data row ``row`` (0-based, as pandas counts rows)."""
-    return next(itertools.islice(_data_lines(str(body), first_line, sep), row, None))
+def _row(body, first_line: int, sep: str, row: int) -> tuple[int | None, list | None]:
+    """(line number, cells) of data row ``row`` (0-based, as pandas counts rows);
+    ``(None, None)`` if the lines run out first (a quoted cell spanning lines)."""
+    lines = _data_lines(str(body), first_line, sep)
+    return next(itertools.islice(lines, row, None), (None, None))
 
 
 def _fields(cells: list, n: int) -> int:
@@ -319,6 +334,14 @@ def _fields_error(cells: list, n: int, p: Path, lineno: int) -> InputError:
         hint = "'#' lines are read only before the header: delete this one"
     return InputError(
         f"has {len(cells)} fields but the header has {n}; {hint}", path=p, line=lineno
+    )
+
+
+def _unclosed_quote(p: Path, lineno: int) -> InputError:
+    return InputError(
+        "a quoted cell opened on this line is never closed; delete the stray '\"'",
+        path=p,
+        line=lineno,
     )
 
 
@@ -337,7 +360,12 @@ def _is_number(cell: str, dec: str) -> bool:
 def _diagnose(body, first_line, sep, dec, names, p, original):
     """Find the first malformed body line and raise an InputError that names it."""
     n = len(names)
+    if "EOF inside string" in str(original):  # a quote never closed: the last row runs on
+        ((lineno, _),) = collections.deque(_data_lines(body, first_line, sep), maxlen=1)
+        raise _unclosed_quote(p, lineno) from original
     for lineno, cells in _data_lines(body, first_line, sep):
+        if cells is None:
+            raise _unclosed_quote(p, lineno) from original
         if _fields(cells, n) != n:
             raise _fields_error(cells, n, p, lineno) from original
         for name, cell in zip(names, cells, strict=False):
@@ -352,7 +380,7 @@ def _diagnose(body, first_line, sep, dec, names, p, original):
                     column=name,
                 ) from original
     for lineno, cells in _data_lines(body, first_line, sep):  # a lone trailing separator
-        if len(cells) != n:
+        if cells is not None and len(cells) != n:
             raise _fields_error(cells, n, p, lineno) from original
     raise InputError(
         f"cannot parse the table ({original}); check the separator and decimal mark",
@@ -519,7 +547,7 @@ def parse_sensor_bytes(
         if bad.any():
             row = int(np.argmax(bad))
             line, cells = _row(body, first_line, sep, row)
-            if _fields(cells, len(raw_names)) != len(raw_names):
+            if cells is not None and _fields(cells, len(raw_names)) != len(raw_names):
                 raise _fields_error(cells, len(raw_names), p, line)
             what = "time" if key == "time" else "force"
             raise InputError(
