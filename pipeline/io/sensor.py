@@ -418,32 +418,9 @@ def _head_and_body(raw: bytes, p: Path, encoding):
     return raw, head, pos, None
 
 
-def parse_sensor_bytes(
-    raw,
-    p,
-    sha,
-    *,
-    time_unit=None,
-    force_unit=None,
-    axes=None,
-    scene=None,
-    encoding=None,
-    fmt="sensor_csv",
-):
-    """Parse the bytes of a sensor CSV (``p`` and ``sha`` for messages and attributes)."""
-    raw, head, body_offset, full_text = _head_and_body(raw, p, encoding)
-    meta, header, header_line, body_start, sep = _split_head(head, p)
-    if full_text is not None:
-        body = full_text[body_start:]
-        body_source = io.StringIO(body)
-    else:
-        # BytesIO over the bytes object shares its buffer: no copy of a large file.
-        body_source = io.BytesIO(raw)
-        body_source.seek(body_offset)
-        body = _LazyText(raw, body_offset, p, header_line)
-    sep = sep or _sniff_separator(header, p, header_line)
-    dec = _sniff_decimal(body[:4096], sep)
-    raw_names = [h.strip().strip('"').strip() for h in header.split(sep)]
+def _classify(raw_names: list, header: str, p: Path, header_line: int):
+    """The header's time column ``(j, name, unit)``, its force columns ``{"Fz": (j, name,
+    unit), ...}`` and its other columns ``{base name: (j, name, unit)}``."""
     time_cols, force_cols, other_cols = [], {}, {}
     for j, h in enumerate(raw_names):
         base, unit = split_unit(h)
@@ -470,14 +447,43 @@ def parse_sensor_bytes(
             path=p,
             line=header_line,
         )
-    time_col = time_cols[0] if time_cols else None
-    if time_col is None:
+    if not time_cols:
         raise InputError(
             f"no time column in the header {header.strip()!r}; name it 'time [s]' (or 't' "
             "with its unit)",
             path=p,
             line=header_line,
         )
+    return time_cols[0], force_cols, other_cols
+
+
+def parse_sensor_bytes(
+    raw,
+    p,
+    sha,
+    *,
+    time_unit=None,
+    force_unit=None,
+    axes=None,
+    scene=None,
+    encoding=None,
+    fmt="sensor_csv",
+):
+    """Parse the bytes of a sensor CSV (``p`` and ``sha`` for messages and attributes)."""
+    raw, head, body_offset, full_text = _head_and_body(raw, p, encoding)
+    meta, header, header_line, body_start, sep = _split_head(head, p)
+    if full_text is not None:
+        body = full_text[body_start:]
+        body_source = io.StringIO(body)
+    else:
+        # BytesIO over the bytes object shares its buffer: no copy of a large file.
+        body_source = io.BytesIO(raw)
+        body_source.seek(body_offset)
+        body = _LazyText(raw, body_offset, p, header_line)
+    sep = sep or _sniff_separator(header, p, header_line)
+    dec = _sniff_decimal(body[:4096], sep)
+    raw_names = [h.strip().strip('"').strip() for h in header.split(sep)]
+    time_col, force_cols, other_cols = _classify(raw_names, header, p, header_line)
     chosen = resolve_axes(force_cols, axes, p, others=other_cols)
     columns = {**other_cols, **force_cols}  # every column but time, by name
     t_factor, t_unit = resolve_unit("time", time_col[2], time_unit, path=p, column=time_col[1])
