@@ -234,6 +234,7 @@ def test_ignored_columns_listed(tmp_path):
         ("meta_only.csv", "# a: 1\n# b: 2\n", "no header row", None, None),
         ("header_only.csv", "# a: 1\ntime [s],Fz [N]\n", "header only", 2, None),
         ("single.csv", "time [s],Fz [N]\n0,1\n", "single sample", 2, None),
+        ("single_gap.csv", "time [s],Fz [N]\n\n\n0,1\n\n", "single sample", 4, None),
         ("text_cell.csv", "time [s],Fx [N],Fz [N]\n0,1,2\n1,abc,3\n2,1,1\n", "'abc'", 3, "Fx [N]"),
         (
             "nan.csv",

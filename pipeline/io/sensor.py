@@ -544,7 +544,9 @@ def parse_sensor_bytes(
         raise InputError("header only: the file has no data rows", path=p, line=header_line)
     if n == 1:
         raise InputError(
-            "a single sample: a record needs at least two time samples", path=p, line=first_line
+            "a single sample: a record needs at least two time samples",
+            path=p,
+            line=_row(body, first_line, sep, 0)[0],
         )
     cols = {wanted[j]: frame[labels[j]].to_numpy() for j in sorted(wanted)}
     # Too few fields on a line fill NaN silently: check every used column for non-finite.
