@@ -224,7 +224,7 @@ def canonical_column(name: str) -> str:
     return FORCE_NAMES.get(key, name)
 
 
-def resolve_axes(columns: dict, axes, p: Path, *, others: dict | None = None) -> dict:
+def resolve_axes(columns: dict, axes, p: Path, *, others: dict | None = None, line=None) -> dict:
     """Record channel → (file column, sign).
 
     ``columns`` holds the recognised force columns by canonical name (``Fx``...); ``others``
@@ -281,5 +281,6 @@ def resolve_axes(columns: dict, axes, p: Path, *, others: dict | None = None) ->
             f"{available}; other columns: {', '.join(others or {}) or 'none'}); name the "
             "normal-force column, e.g. axes={'Fn': 'Fx'}",
             path=p,
+            line=line,
         )
     return chosen

@@ -484,13 +484,17 @@ def parse_sensor_bytes(
     dec = _sniff_decimal(body[:4096], sep)
     raw_names = [h.strip().strip('"').strip() for h in header.split(sep)]
     time_col, force_cols, other_cols = _classify(raw_names, header, p, header_line)
-    chosen = resolve_axes(force_cols, axes, p, others=other_cols)
+    chosen = resolve_axes(force_cols, axes, p, others=other_cols, line=header_line)
     columns = {**other_cols, **force_cols}  # every column but time, by name
-    t_factor, t_unit = resolve_unit("time", time_col[2], time_unit, path=p, column=time_col[1])
+    t_factor, t_unit = resolve_unit(
+        "time", time_col[2], time_unit, path=p, column=time_col[1], line=header_line
+    )
     f_factors = {}
     for name, (col, _) in chosen.items():
         _, h, unit = columns[col]
-        f_factors[name] = resolve_unit("force", unit, force_unit, path=p, column=h)
+        f_factors[name] = resolve_unit(
+            "force", unit, force_unit, path=p, column=h, line=header_line
+        )
     f_units = {u for _, u in f_factors.values()}
 
     # The body: pandas' C parser, no Python loop over rows.

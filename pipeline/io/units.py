@@ -78,7 +78,7 @@ def force_factor(unit: str) -> float | None:
 
 
 def resolve_unit(
-    kind: str, found: str | None, given: str | None, *, path, column=None, hint: str = ""
+    kind: str, found: str | None, given: str | None, *, path, column=None, line=None, hint=""
 ) -> tuple[float, str]:
     """Pick the unit of a quantity from the file (``found``) or the argument (``given``).
 
@@ -89,8 +89,8 @@ def resolve_unit(
         Unit written in the file.
     given : str or None
         Unit passed by the user (``time_unit=`` / ``force_unit=``).
-    path, column
-        For error messages.
+    path, column, line
+        For error messages (``line``: the header's line, where the unit was looked for).
     hint : str
         Extra advice appended when no unit is known.
 
@@ -123,6 +123,7 @@ def resolve_unit(
                 f"unit {found!r} is not a {kind} unit; use one of {', '.join(known)} "
                 "in the column header",
                 path=path,
+                line=line,
                 column=column,
             )
         if given is not None and factor_of(given) != f:
@@ -130,6 +131,7 @@ def resolve_unit(
                 f"the file gives {kind} in {found!r} but {arg}={given!r} was passed; "
                 f"drop {arg} (units in the file win) or correct the file",
                 path=path,
+                line=line,
                 column=column,
             )
         return f, found
@@ -137,6 +139,7 @@ def resolve_unit(
         raise InputError(
             f"no {kind} unit in the file; give {arg}= (one of {', '.join(known)}){hint}",
             path=path,
+            line=line,
             column=column,
         )
     return factor_of(given), given

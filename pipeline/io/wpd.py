@@ -146,7 +146,9 @@ def _dialect(lines) -> tuple[str, str]:
 def _sorted_points(x, y, linenos, p: Path, dataset: str):
     x, y, linenos = np.asarray(x, float), np.asarray(y, float), np.asarray(linenos)
     if x.size == 0:
-        raise InputError(f"dataset {dataset!r} has no points", path=p)
+        raise InputError(
+            f"dataset {dataset!r} has no points; digitise it or delete its two columns", path=p
+        )
     if x.size == 1:
         raise InputError(
             f"dataset {dataset!r} has a single point; a channel needs at least two",
