@@ -499,7 +499,7 @@ def fig6_disc_velocity(scene: Scene = None, surface_speeds=None) -> Figure:
     inside = [k for k in kinks if lo < k < hi and float(scene.mu) > 0]
     u = np.unique(np.concatenate([u, inside]))
     res = sphere_on_plane(scene.replace(surface_speed=u))
-    vx = np.asarray(res.v_t) + u  # laboratory frame: relative velocity + surface speed
+    vx = np.asarray(res.v_t_scene) + u  # laboratory frame: relative velocity + surface speed
     stick = np.asarray(res.regime) == "sticking"
     kap = float(scene.kappa)
     m_ratio = float(np.asarray(res.m_eff).flat[0]) / float(scene.m)

@@ -119,16 +119,19 @@ class SphereOnPlane:
         sliding throughout iff μ ≤ tan β
     phi : float — friction angle atan μ [rad], measured from the Pn axis
     e_t : float — tangential restitution of the centre, v_t/v_t0 [-] (NaN where v_t0 = 0)
-    omega : float — ball's spin after impact [rad/s], same sense as ``Scene.spin`` (positive
-        is the sense a positive Pt gives when the initial slip is along +t). The scene's
-        axis is kept (signs restored): ``t_sign·omega`` is the value on the slip axis that
-        :func:`pipeline.simulate.impact` reports.
+    omega : float — ball's spin after impact [rad/s], positive in the sense that Pt > 0
+        produces (API.md; PHYSICS.md §1), i.e. on the axis of the initial slip, as
+        :func:`pipeline.simulate.impact` reports it. ``omega_scene`` gives it on the scene's
+        own tangential axis (the axis of ``Scene.spin``); the two differ in sign only when
+        the initial slip is negative (``t_sign = −1``).
     v_n : float — normal separation speed of the centres after impact, e·v_n0 [m/s]
     v_t : float — tangential velocity of the ball's centre relative to the target (its
-        centre, or its surface for a fixed target) after impact, on the axis of
-        ``Scene.v_t0`` [m/s]; ``t_sign·v_t`` is the slip-axis value
-    slip0 : float — initial slip of the contact point, v_t0 − spin·R [m/s] (signed)
-    slip_f : float — slip after impact [m/s] (0 in the sticking regime)
+        centre, or its surface for a fixed target) after impact, on the axis of the initial
+        slip [m/s]; ``v_t_scene`` on the axis of ``Scene.v_t0``
+    slip0 : float — initial slip of the contact point, v_t0 − spin·R, on the scene's axis
+        [m/s] (signed: its sign is ``t_sign``)
+    slip_f : float — slip after impact on the axis of the initial slip [m/s], ≥ 0 (0 in the
+        sticking regime: a rigid ball never reverses its slip)
     corner : ndarray (..., 2) — (Pt, Pn) of the corner A (NaN in the sliding regime) [N·s]
     vertices : ndarray — (k, 2) rows (Pt, Pn) [N·s]: origin, corner A (sticking only),
         end point E1 or E2. For an array of scenes the shape is (..., 3, 2) and a sliding
@@ -160,6 +163,17 @@ class SphereOnPlane:
     m_t: object
     kappa: object
     t_sign: object
+
+    # --- the post-impact state on the scene's own tangential axis
+    @property
+    def omega_scene(self):
+        """Spin after impact on the axis of ``Scene.spin`` [rad/s] (= t_sign·omega)."""
+        return _out(_a(self.t_sign) * _a(self.omega))
+
+    @property
+    def v_t_scene(self):
+        """Tangential velocity after impact on the axis of ``Scene.v_t0`` [m/s]."""
+        return _out(_a(self.t_sign) * _a(self.v_t))
 
     # --- the four lines of the seed's Fig. 4 under the seed's names
     @property
@@ -304,6 +318,7 @@ def sphere_on_plane(scene: Scene, *, target_kappa=None) -> SphereOnPlane:
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         e_t = np.where(v_t0 != 0, v_t / np.where(v_t0 != 0, v_t0, 1.0), np.nan)
     regime = np.where(sliding, "sliding", "sticking")
+    t_sign = np.where(sigma < 0, -1.0, 1.0)
 
     zero = np.zeros_like(Pn_f)
     mid_t = np.where(sliding, Pt_f, Pt_S)
@@ -325,17 +340,17 @@ def sphere_on_plane(scene: Scene, *, target_kappa=None) -> SphereOnPlane:
         beta=_out(beta),
         phi=_out(phi),
         e_t=_out(e_t),
-        omega=_out(omega),
+        omega=_out(t_sign * omega),
         v_n=_out(v_n),
-        v_t=_out(v_t),
+        v_t=_out(t_sign * v_t),
         slip0=_out(slip0),
-        slip_f=_out(slip_f),
+        slip_f=_out(t_sign * slip_f),
         corner=corner,
         vertices=vertices,
         m_eff=_out(m_eff),
         m_t=_out(m_t),
         kappa=_out(kappa),
-        t_sign=_out(np.where(sigma < 0, -1.0, 1.0)),
+        t_sign=_out(t_sign),
     )
 
 

@@ -117,15 +117,18 @@ def test_kappa_generalisation_hollow_sphere():
 @pytest.mark.parametrize("mu", [0.05, 0.4])
 def test_angular_momentum_about_contact_point_is_conserved(spin, mu):
     # Both impulses act at the contact point, so m·v_t + I·ω/R is unchanged by the impact
-    # (ω positive in the forward-rolling sense, PHYSICS.md §1) — whatever the regime.
+    # (ω positive in the forward-rolling sense, PHYSICS.md §1) — whatever the regime. The
+    # scene's spin is on the scene's axis, so compare on that axis (the *_scene values).
     r = sphere_on_plane(ball(angle_deg=35.0, mu=mu, e=0.6, spin=spin))
     before = M * V * math.sin(math.radians(35.0)) + KAPPA * M * R * spin
-    after = M * r.v_t + KAPPA * M * R * r.omega
+    after = M * r.v_t_scene + KAPPA * M * R * r.omega_scene
     assert after == pytest.approx(before, rel=1e-12, abs=1e-15)
     if r.regime == "sticking":
-        assert r.v_t - r.omega * R == pytest.approx(0.0, abs=1e-12)
+        assert r.v_t_scene - r.omega_scene * R == pytest.approx(0.0, abs=1e-12)
     else:  # slip keeps its sign while sliding: a rigid ball never reverses slip
-        assert np.sign(r.v_t - r.omega * R) == np.sign(r.slip0)
+        assert np.sign(r.v_t_scene - r.omega_scene * R) == np.sign(r.slip0)
+    # on the slip axis (API.md: ω positive in the sense Pt > 0 produces) the slip is ≥ 0
+    assert r.slip_f >= 0 and r.v_t - r.omega * R == pytest.approx(r.slip_f, abs=1e-12)
     assert r.Pt_f >= 0
 
 
@@ -140,18 +143,21 @@ def test_spin_that_cancels_slip_gives_no_friction():
 
 def test_negative_slip_is_the_mirror_image():
     # Surface faster than the ball (slip −u) must mirror the ball sliding at +u on a still
-    # surface: same percussions and regime, tangential velocity and spin change sign.
+    # surface: same percussions and regime; on the scene's axis the tangential velocity and
+    # spin change sign, on the slip axis (API.md: ω in the sense Pt > 0 produces) they agree.
     for u, mu in ((2.0, 0.1), (0.3, 0.5)):
         neg = sphere_on_plane(ball(surface_speed=u, mu=mu, e=0.7))
         pos = sphere_on_plane(ball(surface_speed=-u, mu=mu, e=0.7))
         assert neg.slip0 == -u
         assert neg.regime == pos.regime
         assert neg.Pt_f == pytest.approx(pos.Pt_f, rel=1e-12) and neg.Pt_f > 0
-        assert neg.v_t == pytest.approx(-pos.v_t, rel=1e-12)
-        assert neg.omega == pytest.approx(-pos.omega, rel=1e-12)
+        assert neg.v_t_scene == pytest.approx(-pos.v_t_scene, rel=1e-12)
+        assert neg.omega_scene == pytest.approx(-pos.omega_scene, rel=1e-12)
+        assert neg.v_t == pytest.approx(pos.v_t, rel=1e-12)
+        assert neg.omega == pytest.approx(pos.omega, rel=1e-12) and neg.omega > 0
         np.testing.assert_allclose(neg.vertices, pos.vertices, rtol=1e-12)
         # the ball is dragged along the surface: lab velocity v_t + u has the sign of u
-        assert neg.v_t + u > 0
+        assert neg.v_t_scene + u > 0
 
 
 def test_zero_slip_and_frictionless_cases():
@@ -208,12 +214,13 @@ def test_sphere_on_plane_obeys_coulomb_and_never_gains_energy(angle, speed, mu, 
     r = sphere_on_plane(sc)
     I = kappa * M * R**2  # noqa: E741
     KE0 = 0.5 * M * (sc.v_n0**2 + sc.v_t0**2) + 0.5 * I * spin**2
-    KE1 = 0.5 * M * (r.v_n**2 + r.v_t**2) + 0.5 * I * r.omega**2
+    KE1 = 0.5 * M * (r.v_n**2 + r.v_t**2) + 0.5 * I * r.omega**2  # either axis
     assert KE1 <= KE0 * (1 + 1e-12) + 1e-300
     assert 0.0 <= r.Pt_f <= mu * r.Pn_f * (1 + 1e-12) + 1e-300
     L0 = M * sc.v_t0 + I * spin / R
-    assert M * r.v_t + I * r.omega / R == pytest.approx(L0, rel=1e-9, abs=1e-12 * M * (1 + abs(u)))
-    assert r.slip_f * r.slip0 >= 0
+    L1 = M * r.v_t_scene + I * r.omega_scene / R
+    assert L1 == pytest.approx(L0, rel=1e-9, abs=1e-12 * M * (1 + abs(u)))
+    assert r.slip_f >= 0
 
 
 def test_array_scenes_match_loop_of_scalars():
@@ -494,3 +501,21 @@ def test_bad_input_raises():
         planar_impact(W, 1.0, 0.0, 0.2, 0.5, "newton")
     with pytest.raises(InputError, match="e = \\[1.5\\]"):
         planar_impact(W, 1.0, 1.0, 0.2, 1.5, "newton")
+
+
+@pytest.mark.parametrize("u", [-0.5, 0.5, 2.0])  # slip +, slip + (slower surface), slip −
+def test_spin_convention_matches_the_simulator(u):
+    """Rigid ω and v_t on the slip axis equal the compliant simulator's Coulomb limit.
+
+    With tangential="coulomb" (no tangential compliance) the simulated end state is Routh's
+    (PHYSICS.md §3), and both report ω "positive in the sense that Pt > 0 produces" (API.md).
+    """
+    from pipeline.simulate import impact
+
+    sc = Scene(
+        radius=R, mass=M, E=210e9, nu=0.3, speed=1.0, angle_deg=30.0, mu=0.3, e=0.8, surface_speed=u
+    )
+    r = sphere_on_plane(sc)
+    sim = impact(sc, normal="hunt_crossley", tangential="coulomb")
+    assert sim.attrs["omega"] == pytest.approx(float(r.omega), rel=1e-6)
+    assert sim.attrs["e_t"] == pytest.approx(float(r.e_t), rel=1e-6)
