@@ -211,8 +211,20 @@ def test_units_from_arguments_and_clashes(tmp_path):
 def test_plane_impact_warning(tmp_path):
     big = "time [s],Fx [N],Fy [N],Fz [N]\n0,0,0.6,1\n1,0,0.1,10\n2,0,0,2\n"  # 6 % of peak Fn
     p = _write(tmp_path, "plane.csv", big)
-    with pytest.warns(PlaneImpactWarning, match="plane.csv"):
+    with pytest.warns(PlaneImpactWarning, match="plane.csv") as caught:
         load(p)
+    assert caught[0].filename == __file__  # the caller's line, not one inside pipeline.io
+    q = _tdms(
+        tmp_path / "plane.tdms",
+        [
+            (f, v, {"unit_string": "N", **WF})
+            for f, v in (("Fz", [1.0, 10.0, 2.0]), ("Fy", [0.6, 0.1, 0.0]))
+        ],
+    )
+    for reader, path in ((read_sensor, p), (load, q), (read_tdms, q)):
+        with pytest.warns(PlaneImpactWarning) as caught:
+            reader(path)
+        assert caught[0].filename == __file__, (reader, path)
     ok = big.replace("0,0.6,1", "0,0.4,1")  # 4 %: no warning (warnings are errors here)
     load(_write(tmp_path, "ok.csv", ok))
 

@@ -7,6 +7,7 @@ import math
 import numbers
 import os
 import re
+import sys
 import threading
 import warnings
 from pathlib import Path
@@ -202,8 +203,18 @@ def check_plane(forces: dict, path) -> None:
             f"{100 * ratio:.1f} % of the normal peak |Fn| = {peak_n:.4g} N (> "
             f"{100 * PLANE_TOLERANCE:.0f} %); the plane-impact assumption is doubtful",
             PlaneImpactWarning,
-            stacklevel=4,
+            stacklevel=_caller_level(),
         )
+
+
+def _caller_level() -> int:
+    """``stacklevel`` that points a warning at the first frame outside pipeline.io (the
+    readers are reached through one to three calls: load → read_sensor → ...)."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    frame, level = sys._getframe(1), 1  # the frame that calls warnings.warn
+    while frame is not None and os.path.dirname(frame.f_code.co_filename) == here:
+        frame, level = frame.f_back, level + 1
+    return level
 
 
 def first_non_increase(t) -> tuple[int, str] | None:
