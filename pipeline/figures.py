@@ -753,26 +753,21 @@ def fig9_percussion_plane(analysis) -> Figure:
             ax.plot(v[1, 0], v[1, 1], "s", ms=3.5, color=COLORS["rigid"])
             tag("A", v[1], -5, 2, "right", "bottom")
             tag("(S)", (v[1, 0], 0.5 * (max(v[1, 1], Pn_c) + v[-1, 1])), -5, 0, "right", "center")
-        ax.plot(
-            np.where(comp, Pt, np.nan),
-            np.where(comp, Pn, np.nan),
-            "-",
-            lw=1.6,
-            color=COLORS["measured"],
-            gid="measured-compression",
-            label="deformable body (measured): compression",
-        )
         rest = ~comp
         rest[max(int(np.count_nonzero(comp)) - 1, 0)] = True  # join the two phases
-        ax.plot(
-            np.where(rest, Pt, np.nan),
-            np.where(rest, Pn, np.nan),
-            "-",
-            lw=1.6,
-            color=COLORS["accent"],
-            gid="measured-restitution",
-            label="deformable body (measured): restitution",
-        )
+        for phase, mask, color in (
+            ("compression", comp, COLORS["measured"]),
+            ("restitution", rest, COLORS["accent"]),
+        ):
+            ax.plot(
+                np.where(mask, Pt, np.nan),
+                np.where(mask, Pn, np.nan),
+                "-",
+                lw=1.6,
+                color=color,
+                gid=f"measured-{phase}",
+                label=f"deformable body (measured): {phase}",
+            )
         ax.plot(
             perc.Pt_fit * k,
             perc.Pn_fit * k,
