@@ -8,7 +8,7 @@ export OPENBLAS_NUM_THREADS := 1
 export OMP_NUM_THREADS := 1
 export MPLBACKEND := Agg
 
-.PHONY: all venv test reproduce bench data lint clean
+.PHONY: all venv test test-narrow-simd reproduce bench data lint clean
 
 all: test
 
@@ -22,6 +22,13 @@ venv: $(STAMP)
 
 test: $(STAMP)
 	MPLCONFIGDIR=$$(mktemp -d) $(PY) -m pytest -q
+
+# The numeric tests again with NumPy's SIMD dispatch narrowed to its baseline: every
+# dispatched feature this CPU has is disabled, so sums are taken in another order.
+test-narrow-simd: $(STAMP)
+	@feats="$$($(PY) scripts/simd_features.py)"; echo "NPY_DISABLE_CPU_FEATURES=$$feats"; \
+	NPY_DISABLE_CPU_FEATURES="$$feats" MPLCONFIGDIR=$$(mktemp -d) $(PY) -m pytest -q \
+	  --ignore=tests/test_io_fuzz.py --ignore=tests/test_docs.py
 
 reproduce: $(STAMP)
 	MPLCONFIGDIR=$$(mktemp -d) $(PY) -m pipeline.cli reproduce --samples data_samples --out build/reproduce

@@ -73,7 +73,8 @@ def test_hertz_percussions_from_fit_and_raw_samples(fit_kw):
     assert p.time[i_half] == pytest.approx(T0 + IMPACT.t_c / 2, abs=1e-15)
     for src in SOURCES:
         Pn = p.Pn(src)
-        assert Pn[0] == 0.0
+        # zero at contact start up to the rounding of the sums behind it (SIMD order)
+        assert Pn[0] == pytest.approx(0.0, abs=1e-12 * MV), src
         assert Pn[i_half] == pytest.approx(MV, rel=1e-3), src
         assert Pn[-1] == pytest.approx(2 * MV, rel=1e-3), src
         assert p.Pt(src)[-1] == pytest.approx(2 * MU * MV, rel=1e-3), src

@@ -458,11 +458,22 @@ def test_array_input_matches_loop_of_scalars():
         assert arr.vertices.shape == (40, 3, 2)
         for i in range(40):
             one = planar_impact(W[i], vt0[i], vn0[i], mu[i], 0.8, law)
-            for name in ("Pt", "Pn", "Pn_c", "dKE", "s", "v_n"):
+            P_scale = abs(one.Pn) + abs(one.Pt)
+            KE_scale = 0.5 * (vt0[i] ** 2 + vn0[i] ** 2) / np.linalg.eigvalsh(W[i])[0]
+            scales = {"Pt": P_scale, "Pn": P_scale, "Pn_c": P_scale, "dKE": KE_scale}
+            scales.update(s=abs(vt0[i]) + vn0[i], v_n=abs(vt0[i]) + vn0[i])
+            for name, scale in scales.items():
                 assert getattr(arr, name)[i] == pytest.approx(
-                    getattr(one, name), rel=1e-13, abs=1e-15
+                    getattr(one, name), rel=1e-12, abs=1e-12 * scale
                 ), (law, name, i)
-            assert arr.mode[i] == one.mode
+            # the mode is a classification: compare it where a 1e-9 change of μ keeps it
+            # (on a boundary the two paths' roundings may fall on either side)
+            near = {
+                planar_impact(W[i], vt0[i], vn0[i], mu[i] * f, 0.8, law).mode
+                for f in (1 - 1e-9, 1 + 1e-9)
+            }
+            if near == {one.mode}:
+                assert arr.mode[i] == one.mode, (law, i)
             np.testing.assert_allclose(arr.vertices[i][[0, -1]], one.vertices[[0, -1]])
 
 
