@@ -23,7 +23,7 @@ import numpy as np
 from numpy.polynomial import legendre as L
 
 from pipeline._atomic import atomic_path, atomic_write_bytes
-from pipeline.fit import fit_polynomial, fit_polynomials_batch
+from pipeline.smooth import fit_polynomial, fit_polynomials_batch
 
 N_RECORDS = 5000
 N_SAMPLES = 100

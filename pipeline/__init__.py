@@ -1,8 +1,9 @@
 """pipeline — impact-force histories to physics.
 
 Stages, one module each, in the order data flows:
-``io`` (read) → ``window`` → ``fit`` → ``percussion`` → ``rigid`` / ``contact`` →
-``score`` → ``analysis`` → ``report``; ``simulate`` makes records with known truth.
+``io`` (read) → ``window`` → ``smooth`` → ``percussion`` → ``rigid`` / ``contact`` →
+``fit`` (contact parameters) → ``score`` → ``analysis`` → ``report``; ``simulate`` makes
+records with known truth.
 """
 
 from .errors import InputError
@@ -27,6 +28,7 @@ _SUBMODULES = {
     "score",
     "sensor_model",
     "simulate",
+    "smooth",
     "window",
 }
 

@@ -1,6 +1,6 @@
 """One record to the seed paper's verdict: :func:`analyse` bundles every stage.
 
-record → :mod:`~pipeline.window` (contact, baseline, noise) → :mod:`~pipeline.fit`
+record → :mod:`~pipeline.window` (contact, baseline, noise) → :mod:`~pipeline.smooth`
 (quartic fits as in the seed) → :mod:`~pipeline.percussion`
 (Pn(t), Pt(t) from the fit and from the samples; maximum compression; Poisson, Newton and
 Stronge restitution) → :mod:`~pipeline.rigid` (Routh's broken line for the scene) →
@@ -22,15 +22,15 @@ from dataclasses import dataclass
 import numpy as np
 import xarray as xr
 
-from . import fit as _fit
 from . import percussion as _perc
 from . import rigid as _rigid
 from . import score as _score
+from . import smooth as _smooth
 from . import window as _window
+from ._json import json_ready
 from .errors import InputError
 from .record import channel
 from .scene import Scene
-from .window import _json_ready as _clean  # strict JSON: NaN → None, inf → "inf"
 
 __all__ = ["Analysis", "analyse", "estimate_mu", "noise_level", "MIN_SAMPLES"]
 
@@ -49,7 +49,7 @@ class Analysis:
     rigid_scene : Scene
         The scene the rigid prediction used (μ and e possibly taken from the record).
     window : pipeline.window.ContactWindow
-    fits : pipeline.fit.WindowFits
+    fits : pipeline.smooth.WindowFits
         Polynomial fits (degree ``options["degree"]``, 4 by default: the seed's quartics).
     percussions : pipeline.percussion.Percussions
     split : pipeline.percussion.CompressionSplit
@@ -91,7 +91,7 @@ class Analysis:
         ``target_E`` reads back through :meth:`pipeline.Scene.from_dict` after ``float``).
         """
         rs = self.rigid
-        return _clean(
+        return json_ready(
             {
                 "source": self.record.attrs.get("source", ""),
                 "sha256": self.record.attrs.get("sha256", ""),
@@ -255,7 +255,9 @@ def analyse(
             path=record.attrs.get("source"),
         )
     win = _window.find_contact(record, **(window_options or {}))
-    fits = _fit.fit_window(win, method="polynomial", degree=degree, end_constraints=end_constraints)
+    fits = _smooth.fit_window(
+        win, method="polynomial", degree=degree, end_constraints=end_constraints
+    )
     n_min = min(channel(win.record, c)[0].size for c in ("Fn", "Ft"))
     if source == "auto":
         source = "simpson" if n_min >= MIN_SAMPLES else "fit"
@@ -345,7 +347,7 @@ def noise_level(window, fits, name) -> float:
     if t.size >= 50:
         return float(1.4826 * np.median(np.abs(np.diff(f, 2))) / np.sqrt(6.0))
     if t.size >= 5:
-        return float(_fit.fit_spline(t, f, t_start=window.t_start, t_end=window.t_end).rms)
+        return float(_smooth.fit_spline(t, f, t_start=window.t_start, t_end=window.t_end).rms)
     return float(getattr(fits, name).sigma)
 
 
@@ -382,7 +384,7 @@ def _bootstrap(win, perc, fits, n_boot, seed) -> dict:
         if pf.dof > 0:
             resid = (resid - resid.mean()) * np.sqrt(t.size / pf.dof)
         F_b = base + resid[rng.integers(0, t.size, size=(n_boot, t.size))]
-        batch = _fit.fit_polynomials_batch(
+        batch = _smooth.fit_polynomials_batch(
             t,
             F_b,
             degree=pf.degree,

@@ -7,7 +7,7 @@ The percussions (seed eq. 3; PHYSICS.md §1) are the running impulses of the con
     P_n(t) = \int_{t_s}^{t} F_n\,dt', \qquad P_t(t) = \int_{t_s}^{t} F_t\,dt',
 
 computed three ways on one time grid so that each result can be cross-checked
-(:func:`percussions`): the exact antiderivative of a fitted curve (:mod:`pipeline.fit`),
+(:func:`percussions`): the exact antiderivative of a fitted curve (:mod:`pipeline.smooth`),
 the cumulative trapezoid rule and the cumulative Simpson rule
 (:func:`scipy.integrate.cumulative_simpson`) on the raw samples. The raw samples are padded
 with F = 0 at the window's ends when these fall between samples (the pulse starts and ends
@@ -72,9 +72,9 @@ import numpy as np
 import xarray as xr
 from scipy import integrate, optimize
 
+from ._json import json_ready
 from .errors import InputError, PipelineWarning
 from .record import channel
-from .window import _json_ready
 
 __all__ = [
     "Percussions",
@@ -315,7 +315,7 @@ class Percussions:
 
     def summary(self) -> dict:
         """JSON-ready dict (units in key names; NaN → None)."""
-        return _json_ready(
+        return json_ready(
             {
                 "t_start_s": self.t_start,
                 "t_end_s": self.t_end,
@@ -359,9 +359,9 @@ def percussions(window, fits=None, *, t_start=None, t_end=None) -> Percussions:
     window : pipeline.window.ContactWindow or xarray.Dataset
         The contact window, or a windowed record (baseline removed) whose attrs
         ``window_t_start``/``window_t_end`` (else its first/last instant) give the window.
-    fits : pipeline.fit.WindowFits, optional
+    fits : pipeline.smooth.WindowFits, optional
         Fitted curves of the channels. Default: the GCV smoothing spline of each channel
-        (:func:`pipeline.fit.fit_window` with ``method="spline"``).
+        (:func:`pipeline.smooth.fit_window` with ``method="spline"``).
     t_start, t_end : float, optional
         Override the window ends [s].
 
@@ -369,7 +369,7 @@ def percussions(window, fits=None, *, t_start=None, t_end=None) -> Percussions:
     -------
     Percussions
     """
-    from .fit import fit_window
+    from .smooth import fit_window
 
     record = getattr(window, "record", window)
     if not isinstance(record, xr.Dataset):
@@ -468,7 +468,7 @@ class CompressionSplit:
 
     def summary(self) -> dict:
         """JSON-ready dict (units in key names; NaN → None)."""
-        return _json_ready(
+        return json_ready(
             {
                 "t_c_s": self.t_c,
                 "Pn_c_Ns": self.Pn_c,

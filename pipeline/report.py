@@ -36,7 +36,8 @@ import numpy as np
 
 from . import figures
 from ._atomic import atomic_write_text
-from .analysis import Analysis, _clean, analyse
+from ._json import json_ready
+from .analysis import Analysis, analyse
 from .errors import InputError, PipelineWarning
 from .io import load
 from .percussion import compression_split, percussions
@@ -286,10 +287,10 @@ def reproduce(
     f = findings(a)
     summary = {"main": main, "near_zero": NEAR_ZERO, "findings": f.summary(), "records": records}
     atomic_write_text(
-        out / "summary.json", json.dumps(_clean(summary), indent=1, allow_nan=False) + "\n"
+        out / "summary.json", json.dumps(json_ready(summary), indent=1, allow_nan=False) + "\n"
     )
     atomic_write_text(out / "report.md", _report_md(main, a, f, records, analyses))
-    return _clean(summary)
+    return json_ready(summary)
 
 
 def _report_md(main, a: Analysis, f: Findings, records, analyses) -> str:

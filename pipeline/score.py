@@ -68,7 +68,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .window import _json_ready
+from ._json import json_ready
 
 __all__ = ["METRICS", "PHASES", "DeviationScore", "deviation_metrics", "deviation_score"]
 
@@ -117,7 +117,7 @@ class DeviationScore:
 
     def summary(self) -> dict:
         """JSON-ready dict: values with their bootstrap standard deviations (NaN → None)."""
-        return _json_ready(
+        return json_ready(
             {
                 "source": self.source,
                 "P_ref_Ns": self.P_ref,

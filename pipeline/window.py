@@ -53,6 +53,7 @@ import numpy as np
 import xarray as xr
 from scipy import special
 
+from ._json import json_ready
 from .errors import InputError
 from .record import FORCE_CHANNELS, KINDS, channel
 
@@ -67,26 +68,6 @@ __all__ = [
 
 #: MAD → σ for Gaussian noise: 1/Φ⁻¹(3/4).
 _MAD_TO_SIGMA = 1.0 / special.ndtri(0.75)
-
-
-def _json_ready(obj):
-    """Plain-Python copy of ``obj`` for strict JSON (the one converter every summary uses).
-
-    numpy scalars and arrays become numbers and lists; NaN becomes None; ±inf the strings
-    ``"inf"``/``"-inf"`` (as in the sample sidecars, which
-    :func:`pipeline.report.scene_from_sidecar` reads back with ``float``).
-    """
-    if isinstance(obj, dict):
-        return {str(k): _json_ready(v) for k, v in obj.items()}
-    if isinstance(obj, np.ndarray):
-        return _json_ready(obj.tolist())
-    if isinstance(obj, (list, tuple)):
-        return [_json_ready(v) for v in obj]
-    if isinstance(obj, np.generic):
-        obj = obj.item()
-    if isinstance(obj, float) and not np.isfinite(obj):
-        return None if np.isnan(obj) else ("inf" if obj > 0 else "-inf")
-    return obj
 
 
 def mad_sigma(r) -> float:
@@ -169,7 +150,7 @@ class ContactWindow:
 
     def summary(self) -> dict:
         """JSON-ready dict of the window's numbers (units in the key names; NaN → None)."""
-        return _json_ready(
+        return json_ready(
             {
                 "kind": self.kind,
                 "t_start_s": self.t_start,

@@ -153,14 +153,15 @@ def test_reproduce_reports_a_broken_record_and_goes_on(tmp_path):
 
 def test_summary_json_keeps_infinite_scene_fields_readable(tmp_path):
     """A rigid (inf) target survives summary.json and reads back as the same Scene."""
-    from pipeline.report import _clean, scene_from_sidecar
+    from pipeline._json import json_ready
+    from pipeline.report import scene_from_sidecar
 
     scene = Scene(
         speed=0.5, angle_deg=15.0, mu=0.2, e=0.8, radius=0.0127, density=7850.0, E=210e9, nu=0.29
     )
     assert scene.target_E == math.inf
     side = tmp_path / "rec.json"
-    side.write_text(json.dumps(_clean({"scene": scene.to_dict()}), allow_nan=False))
+    side.write_text(json.dumps(json_ready({"scene": scene.to_dict()}), allow_nan=False))
     assert scene_from_sidecar(tmp_path / "rec.csv") == scene
 
 
@@ -249,9 +250,9 @@ def test_fit_bootstrap_matches_the_fit_covariance_on_a_short_window():
     replicates: relative s.e. of a std ≈ 1.1 %.
     """
     from pipeline.analysis import _bootstrap
-    from pipeline.fit import fit_window
     from pipeline.percussion import percussions
     from pipeline.record import make_record
+    from pipeline.smooth import fit_window
     from pipeline.window import find_contact
 
     rng = np.random.default_rng(4)

@@ -20,7 +20,6 @@ from scipy.integrate import solve_ivp
 
 from pipeline.contact import calibrate_hunt_crossley_family, hertz_impact, hertz_pulse
 from pipeline.errors import InputError, PipelineWarning, PoorFitWarning
-from pipeline.fit import fit_window
 from pipeline.percussion import (
     SOURCES,
     compression_split,
@@ -33,6 +32,7 @@ from pipeline.percussion import (
 )
 from pipeline.record import make_record
 from pipeline.scene import Scene
+from pipeline.smooth import fit_window
 from pipeline.window import find_contact
 
 SCENE = Scene(

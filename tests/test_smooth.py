@@ -1,7 +1,7 @@
 """Polynomial and spline fits against known ground truth.
 
 - exact polynomials (built here in the power basis of a scaled time, independent of the
-  Legendre machinery in pipeline.fit) must come back to rounding level;
+  Legendre machinery in pipeline.smooth) must come back to rounding level;
 - the coefficient covariance must equal the textbook σ̂²(XᵀX)⁻¹ (e.g. Draper & Smith,
   Applied Regression Analysis, 3rd ed., Wiley 1998, §5.2, doi:10.1002/9781118625590),
   computed here with explicit sums / an explicit inverse;
@@ -19,13 +19,13 @@ import pytest
 
 from pipeline.contact import hertz_impact, hertz_pulse
 from pipeline.errors import InputError, PoorFitWarning
-from pipeline.fit import (
+from pipeline.scene import Scene
+from pipeline.smooth import (
     fit_polynomial,
     fit_polynomials_batch,
     fit_spline,
     runs_test,
 )
-from pipeline.scene import Scene
 
 SCENE = Scene(
     radius=0.0127, density=7800.0, E=200e9, nu=0.3, target_E=200e9, target_nu=0.3, speed=0.5
@@ -210,3 +210,12 @@ def test_bad_input_raises():
         fit_polynomial(t, t, degree=1, end_constraints=True)
     with pytest.raises(InputError, match="NaN"):
         fit_polynomial(t, np.where(t > 5e-5, np.nan, 1.0), degree=2)
+
+
+def test_old_fit_imports_still_work():
+    """pipeline.fit was renamed pipeline.smooth; the old names import from both."""
+    import pipeline.fit as old
+    import pipeline.smooth as new
+
+    for name in ("fit_window", "fit_polynomial", "fit_polynomials_batch", "fit_spline"):
+        assert getattr(old, name) is getattr(new, name)

@@ -1,4 +1,7 @@
-r"""Fits of the force histories: least-squares polynomials and a smoothing spline.
+r"""Smoothing the force histories: least-squares polynomials and a smoothing spline.
+
+(Formerly ``pipeline.fit``, a name now given to the fitting of contact parameters,
+:mod:`pipeline.fit`; the old imports ``from pipeline.fit import fit_window`` still work.)
 
 The seed paper (Ciornei et al. 2017, doi:10.1051/matecconf/201711207005) fitted the
 measured :math:`F_n(t)`, :math:`F_t(t)` with 4th-degree polynomials and integrated them into
@@ -35,7 +38,7 @@ issued) when :math:`z = (R - \mu)/\sqrt{\mathrm{var}} < -2.326` — a one-sided 
 level α = 0.01. On independent white noise it fires 1.0 % of the time; on the residuals of
 a least-squares quartic fitted to white noise, which are slightly anti-correlated, less
 often: 0.05 %, 0.45 %, 0.5 %, 0.7 % for n = 30, 100, 300, 1000 samples (20 000 Monte-Carlo
-records each; checked in ``tests/test_fit.py``). It is not run (``runs_z`` NaN, not
+records each; checked in ``tests/test_smooth.py``). It is not run (``runs_z`` NaN, not
 flagged) with fewer than 10 samples or residuals at rounding level (RMS below 10⁻⁹ of
 the largest |F|: nothing left to model).
 
@@ -68,8 +71,8 @@ import numpy as np
 from numpy.polynomial import legendre as L
 from scipy import interpolate, linalg, special
 
+from ._json import json_ready
 from .errors import InputError, PoorFitWarning
-from .window import _json_ready
 
 __all__ = [
     "PolyFit",
@@ -260,7 +263,7 @@ class PolyFit:
 
     def summary(self) -> dict:
         """JSON-ready dict (units in key names; NaN → None)."""
-        return _json_ready(
+        return json_ready(
             {
                 "model": "polynomial (Legendre basis on the scaled window)",
                 "degree": self.degree,
@@ -563,7 +566,7 @@ class SplineFit:
 
     def summary(self) -> dict:
         """JSON-ready dict (units in key names; NaN → None)."""
-        return _json_ready(
+        return json_ready(
             {
                 "model": "cubic smoothing spline (GCV)" if self.lam is None else "smoothing spline",
                 "t_start_s": self.t_start,
