@@ -567,3 +567,69 @@ def test_batch_flags_unstable_stiff_damping():
     with pytest.warns(PipelineWarning, match="too stiffly damped"):
         out = impact_outcomes(sc, normal="viscoelastic", alpha=0.05)
     assert np.all(np.isnan(out.e_n)) and np.all(np.isnan(out.e_t))
+
+
+# ------------------------------------------------------------ tangential_history
+@pytest.mark.parametrize("history", ["total", "incremental"])
+@pytest.mark.parametrize("angle", [5.0, 15.0, 45.0])
+def test_tangential_history_on_the_hertz_pulse_follows_impact(history, angle):
+    """Driven by the exact elastic pulse (contact.hertz_pulse, Johnson 1985 §11.4), the
+    tangential integrator reproduces the adaptive single-impact solver's Ft(t) and final Pt
+    for Chung & Ooi's test-4 scene, within the batch path's stated RK4 error."""
+    from pipeline.simulate import tangential_history
+
+    scene = al_oxide(angle)
+    hi = contact.hertz_impact(scene)
+    n = 800
+    h = contact.HERTZ_TC_CONSTANT / n
+    unit = contact.HertzImpact(1.0, 1.25, contact.HERTZ_TC_CONSTANT, 1.25, 1.0, 1.0)
+    pulse = contact.hertz_pulse(np.arange(2 * n + 1) * h / 2, unit)
+    m_t = scene.m * scene.kappa / (1 + scene.kappa)  # fixed wall: m* = m
+    kt_coef = 8 * scene.G_eff * math.sqrt(scene.R_eff * hi.delta_max) * hi.delta_max**2
+    kt_coef /= hi.m_eff * hi.v0**2
+    th = tangential_history(
+        np.sqrt(pulse["delta"]),
+        pulse["F"],
+        h,
+        scene.v_t0 / hi.v0,
+        hi.m_eff / m_t,
+        scene.mu,
+        kt_coef,
+        history=history,
+    )
+    ref = impact(scene, normal="hertz", history=history, rtol=1e-11)
+    fscale = hi.m_eff * hi.v0**2 / hi.delta_max
+    t = np.arange(n + 1) * h * hi.delta_max / hi.v0
+    Ft_ref = np.interp(t, ref.time.values, ref.Ft.values)
+    scale = scene.mu * hi.F_max
+    assert np.max(np.abs(th.ft * fscale - Ft_ref)) < 2e-3 * scale
+    assert th.p[-1] * hi.m_eff * hi.v0 == pytest.approx(
+        ref.attrs["Pt_final"], abs=2e-5 * hi.m_eff * hi.v0
+    )
+
+
+def test_tangential_history_coulomb_is_routh_broken_line():
+    """Coulomb friction on any normal history: Pt = min(μ·Pn, m_t·s0) (PHYSICS.md §3)."""
+    from pipeline.simulate import tangential_history
+
+    n = 400
+    h = contact.HERTZ_TC_CONSTANT / n
+    unit = contact.HertzImpact(1.0, 1.25, contact.HERTZ_TC_CONSTANT, 1.25, 1.0, 1.0)
+    pulse = contact.hertz_pulse(np.arange(2 * n + 1) * h / 2, unit)
+    mu, s0, lam = np.array([0.05, 0.3]), np.array([0.5, 0.5]), 3.5
+    th = tangential_history(
+        np.sqrt(pulse["delta"])[:, None] * [1, 1],
+        pulse["F"][:, None] * [1, 1],
+        h,
+        s0,
+        lam,
+        mu,
+        1.0,
+        tangential="coulomb",
+    )
+    Pn = pulse["Pn"][::2]  # exact: m*·(v0 − δ̇)
+    # Simpson's rule on F ∝ τ^{3/2} near first contact: error O(h^{5/2}) ≈ 5e-6·h ≈ 4e-8
+    np.testing.assert_allclose(th.p, np.minimum(mu * Pn[:, None], s0 / lam), atol=1e-7)
+    # μ = 0.05 slides throughout (Pt_f = 0.1 < s0/λ = 1/7), μ = 0.3 sticks (Pt_f = s0/λ)
+    assert th.p[-1, 0] == pytest.approx(0.1, abs=1e-7)
+    assert th.p[-1, 1] == pytest.approx(0.5 / 3.5, abs=1e-12)
