@@ -16,6 +16,7 @@ beside the primary one, so the cost of the quartic is visible.
 
 from __future__ import annotations
 
+import dataclasses
 import json
 from dataclasses import dataclass
 
@@ -63,6 +64,10 @@ class Analysis:
         Friction coefficient estimated from the record (:func:`estimate_mu`) [-].
     source : str
     options : dict
+    sources : dict
+        Where the rigid model's μ and e came from: ``"scene"``, ``"record"`` (estimated
+        from the record: μ by :func:`estimate_mu`, e by Poisson's coefficient) or
+        ``"given"`` (a number passed to :func:`analyse`).
     """
 
     scene: Scene
@@ -77,6 +82,7 @@ class Analysis:
     mu_record: float
     source: str
     options: dict
+    sources: dict = dataclasses.field(default_factory=dict)
 
     @property
     def record(self) -> xr.Dataset:
@@ -97,6 +103,7 @@ class Analysis:
                 "sha256": self.record.attrs.get("sha256", ""),
                 "scene": self.scene.to_dict(),
                 "rigid_scene": self.rigid_scene.to_dict(),
+                "rigid_scene_sources": self.sources,
                 "options": {k: v for k, v in self.options.items() if _jsonable(v)},
                 "window": self.window.summary(),
                 "fits": {
@@ -222,8 +229,10 @@ def analyse(
     source : {"auto", "simpson", "trapezoid", "fit"}
         Which percussions are scored and split (module notes).
     mu, e : "scene", "record" or float
-        Friction coefficient and restitution of the rigid prediction: the scene's, the
-        record's (μ by :func:`estimate_mu`, e by Poisson's coefficient), or a number.
+        Friction coefficient and restitution of the rigid prediction: the scene's (the
+        record's when the scene does not give it, ``Scene(mu=None)``), the record's (μ by
+        :func:`estimate_mu`, e by Poisson's coefficient), or a number. Where each came
+        from is in ``Analysis.sources``.
     split_method : str
         How maximum compression is found (:func:`pipeline.percussion.compression_split`).
     n_boot : int
@@ -264,9 +273,11 @@ def analyse(
     perc = _perc.percussions(win, fits)
     split = _perc.compression_split(perc, scene, method=split_method, source=source)
     mu_rec = estimate_mu(win, split.t_c)
-    rigid_scene = scene.replace(
-        mu=_choose(mu, scene.mu, mu_rec, "mu"), e=_choose(e, scene.e, split.e_poisson, "e")
+    (mu_v, mu_src), (e_v, e_src) = (
+        _choose(mu, scene.mu, mu_rec, "mu"),
+        _choose(e, scene.e, split.e_poisson, "e"),
     )
+    rigid_scene = scene.replace(mu=mu_v, e=e_v)
     rigid = _rigid.sphere_on_plane(rigid_scene)
     boot = _bootstrap(win, perc, fits, n_boot, seed)
     score = _score.deviation_score(
@@ -314,19 +325,26 @@ def analyse(
         mu_record=mu_rec,
         source=source,
         options=options,
+        sources={"mu": mu_src, "e": e_src},
     )
 
 
-def _choose(how, from_scene, from_record, name):
+def _choose(how, from_scene, from_record, name) -> tuple[float, str]:
+    """The value of μ or e for the rigid model, and where it came from ("scene", "record"
+    or "given"). A scene that does not give the value (None) sends "scene" to the record:
+    the rigid model is never fed a value nobody gave."""
     if isinstance(how, str):
-        if how == "scene":
-            return from_scene
-        if how == "record":
+        if how == "scene" and from_scene is not None:
+            return float(from_scene), "scene"
+        if how in ("scene", "record"):
             if not np.isfinite(from_record):
-                raise InputError(f"{name} cannot be estimated from this record; give a number")
-            return float(np.clip(from_record, 0.0, 1.0 if name == "e" else np.inf))
+                raise InputError(
+                    f"{name} is not in the scene and cannot be estimated from this record; "
+                    f"give it (Scene({name}=...) or {name}=<number>)"
+                )
+            return float(np.clip(from_record, 0.0, 1.0 if name == "e" else np.inf)), "record"
         raise InputError(f"{name}={how!r}: use 'scene', 'record' or a number")
-    return float(how)
+    return float(how), "given"
 
 
 def noise_level(window, fits, name) -> float:

@@ -154,14 +154,7 @@ def scene_from_sidecar(path) -> Scene | None:
     data = read_sidecar(path)
     if "scene" not in data:
         return None
-    try:
-        fields = {k: float(v) for k, v in data["scene"].items()}
-    except (ValueError, TypeError, AttributeError) as exc:
-        raise InputError(
-            f"sidecar 'scene' is not a mapping of numbers: {exc}",
-            path=Path(path).with_suffix(".json"),
-        ) from exc
-    return Scene.from_dict(fields)
+    return Scene.from_dict(data["scene"], path=Path(path).with_suffix(".json"))
 
 
 def load_sample(path):

@@ -279,6 +279,7 @@ def sphere_on_plane(scene: Scene, *, target_kappa=None) -> SphereOnPlane:
             "inf for a fixed plane, or build W with pipeline.rigid.inverse_mass_matrix and "
             "call planar_impact"
         )
+    scene.require("mu", "e", why="Routh's rigid model")
     m = _a(scene.m)
     m_eff = _a(scene.m_eff)
     kappa = _a(scene.kappa)

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
@@ -67,10 +68,12 @@ class Scene:
     angle_deg : float
         Angle between the incoming velocity and the surface normal [deg] (the seed's
         tilt α), 0 ≤ α < 90.
-    mu : float
-        Coulomb friction coefficient [-].
-    e : float
-        Normal coefficient of restitution [-], 0 ≤ e ≤ 1.
+    mu : float or None
+        Coulomb friction coefficient [-]. ``None``: not known (a scene read from a file
+        that does not give it); models that need μ then refuse the scene, and
+        :func:`pipeline.analyse` takes μ from the record.
+    e : float or None
+        Normal coefficient of restitution [-], 0 ≤ e ≤ 1. ``None``: not known, as for μ.
     kappa : float
         I/(m·R²) [-]; 0.4 for a solid sphere.
     spin : float
@@ -95,8 +98,8 @@ class Scene:
     target_radius: float = _INF
     target_mass: float = _INF
     angle_deg: float = 0.0
-    mu: float = 0.0
-    e: float = 1.0
+    mu: float | None = 0.0
+    e: float | None = 1.0
     kappa: float = 0.4
     spin: float = 0.0
     surface_speed: float = 0.0
@@ -105,11 +108,17 @@ class Scene:
         for f in dataclasses.fields(self):
             v = getattr(self, f.name)
             if v is None:
+                if f.name in _REQUIRED:
+                    raise InputError(f"Scene.{f.name} is required: give a number")
                 continue
+            if _is_bool(v) or isinstance(v, (str, bytes)):  # True is not a radius, nor is "1"
+                raise InputError(f"Scene.{f.name} must be a number, got {v!r}")
             try:
                 a = _arr(v)
             except (TypeError, ValueError):
                 raise InputError(f"Scene.{f.name} must be a number, got {v!r}") from None
+            if a.dtype.kind not in "fiu":
+                raise InputError(f"Scene.{f.name} must be a number, got {v!r}")
             if np.isnan(a).any():
                 raise InputError(f"Scene.{f.name} is NaN; give a number")
             object.__setattr__(self, f.name, float(a) if a.ndim == 0 else a)
@@ -168,6 +177,22 @@ class Scene:
         """Effective radius R* = 1/(1/R + 1/R_target) [m]."""
         return _scalar(1.0 / (1.0 / _arr(self.radius) + 1.0 / _arr(self.target_radius)))
 
+    def require(self, *names: str, why: str = "this model") -> None:
+        """Raise :class:`InputError` unless every field in ``names`` is known (not None).
+
+        Parameters
+        ----------
+        names : str — Scene field names, e.g. ``"mu"``, ``"e"``
+        why : str — what needs them, for the message
+        """
+        missing = [n for n in names if getattr(self, n) is None]
+        if missing:
+            raise InputError(
+                f"{why} needs {', '.join(missing)}, which the scene does not give: set "
+                + ", ".join(f"Scene({n}=...)" for n in missing)
+                + " (pipeline.analyse takes them from the record when they are unknown)"
+            )
+
     def _need_elastic(self):
         if self.E is None or self.nu is None:
             raise InputError(
@@ -223,14 +248,70 @@ class Scene:
         return out
 
     @classmethod
-    def from_dict(cls, d) -> Scene:
-        """Build a Scene from a mapping, ignoring keys that are not fields."""
-        names = {f.name for f in dataclasses.fields(cls)}
-        return cls(**{k: v for k, v in dict(d).items() if k in names})
+    def from_dict(cls, d, *, path=None) -> Scene:
+        """Build a Scene from a mapping of field names to numbers (SI units).
+
+        The strings ``"inf"`` and ``"-inf"`` stand for ±infinity (strict JSON has no
+        infinity; :func:`pipeline._json.json_ready` writes them so). A key that is not a
+        field is an error naming the closest field, so a misspelt key is never dropped.
+
+        Parameters
+        ----------
+        d : mapping
+        path : str or os.PathLike, optional
+            The file the mapping came from, named in error messages.
+        """
+        import difflib
+
+        if not isinstance(d, Mapping):
+            raise InputError(
+                f"a scene is a mapping of field names to numbers, got {type(d).__name__}",
+                path=path,
+            )
+        names = cls.field_names()
+        unknown = [k for k in d if k not in names]
+        if unknown:
+            hints = []
+            for k in unknown:
+                close = difflib.get_close_matches(str(k), names, n=1, cutoff=0.6)
+                hints.append(f"{k!r}" + (f" (did you mean {close[0]!r}?)" if close else ""))
+            raise InputError(
+                f"unknown scene field{'s' if len(unknown) > 1 else ''} {', '.join(hints)}; "
+                f"the fields are {', '.join(names)}",
+                path=path,
+            )
+        missing = [k for k in _REQUIRED if d.get(k) is None]
+        if d.get("density") is None and d.get("mass") is None:
+            missing.append("density or mass")
+        if missing:
+            raise InputError(f"the scene does not give {', '.join(missing)}", path=path)
+        try:
+            return cls(**{k: _from_json(v) for k, v in d.items()})
+        except InputError as exc:
+            if path is None:
+                raise
+            raise InputError(exc.reason, path=path) from None
 
     @classmethod
     def field_names(cls) -> tuple[str, ...]:
         return tuple(f.name for f in dataclasses.fields(cls))
+
+
+#: Fields without which there is no scene.
+_REQUIRED = ("radius", "speed")
+
+
+def _from_json(v):
+    """``"inf"``/``"-inf"`` (strict JSON's infinity) as floats; anything else unchanged."""
+    if isinstance(v, str) and v.strip().lower() in ("inf", "+inf", "-inf", "infinity"):
+        return float(v)
+    if isinstance(v, list):
+        return [_from_json(x) for x in v]
+    return v
+
+
+def _is_bool(v) -> bool:
+    return isinstance(v, (bool, np.bool_)) or (isinstance(v, np.ndarray) and v.dtype.kind == "b")
 
 
 def _need_compliance(inv):

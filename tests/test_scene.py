@@ -193,9 +193,14 @@ def test_replace_and_dict_round_trip():
     s = base(speed=[1.0, 2.0], mu=0.3)
     d = s.to_dict()
     assert d["speed"] == [1.0, 2.0] and "mass" not in d
-    s2 = Scene.from_dict({**d, "not_a_field": 1})
+    s2 = Scene.from_dict(d)
     np.testing.assert_array_equal(s2.speed, s.speed)
     assert s2.mu == 0.3
+    with pytest.raises(InputError, match=r"unknown scene field 'raduis' \(did you mean 'radius'"):
+        Scene.from_dict({**d, "raduis": 1})
+    with pytest.raises(InputError, match="does not give speed"):
+        Scene.from_dict({"radius": 0.01, "density": 7850.0})
+    assert math.isinf(Scene.from_dict({**d, "target_E": "inf"}).target_E)
     with pytest.raises(InputError, match="Scene.mu"):
         s.replace(mu=-1.0)
     assert s.replace(mu=0.1).mu == 0.1 and s.mu == 0.3
@@ -217,3 +222,32 @@ def test_both_rigid_has_no_compliance():
     # a rigid ball on a compliant target is fine: E* = E_target/(1−ν_target²)
     s2 = base(E=math.inf, target_E=70e9, target_nu=0.3)
     assert s2.E_eff == pytest.approx(70e9 / 0.91, rel=1e-14)
+
+
+# ------------------------------------------------------ unknown μ, e; types
+def test_unknown_mu_and_e_are_refused_by_the_models_that_need_them():
+    """A scene may leave μ and e unknown (None); a model needing them says which."""
+    from pipeline.rigid import sphere_on_plane
+    from pipeline.simulate import impact, impact_outcomes
+
+    s = Scene(radius=0.0127, density=7850.0, E=210e9, nu=0.29, speed=0.6, angle_deg=15.0)
+    unknown = s.replace(mu=None, e=None)
+    assert "mu" not in unknown.to_dict() and "e" not in unknown.to_dict()
+    with pytest.raises(InputError, match=r"Routh's rigid model needs mu, e"):
+        sphere_on_plane(unknown)
+    with pytest.raises(InputError, match=r"needs mu"):
+        impact(unknown.replace(e=0.9))
+    with pytest.raises(InputError, match=r"needs e"):
+        impact(unknown, tangential="none")
+    with pytest.raises(InputError, match=r"needs mu"):
+        impact_outcomes([unknown.replace(e=0.9)] * 2)
+    # frictionless with a given damping parameter needs neither
+    rec = impact(unknown, normal="hunt_crossley", tangential="none", param=0.2, samples=11)
+    assert 0 < rec.attrs["e_n"] < 1
+
+
+@pytest.mark.parametrize("value", [True, False, np.bool_(True), "0.01", None])
+def test_a_radius_must_be_a_number(value):
+    """JSON's true is not a radius (it used to read as 1 m)."""
+    with pytest.raises(InputError, match="radius"):
+        Scene(radius=value, density=7850.0, speed=0.6)

@@ -93,6 +93,7 @@ def _stack_scenes(scenes):
         vals = [getattr(s, name) for s in scenes]
         if any(v is None for v in vals):
             if all(v is None for v in vals):
+                fields[name] = None  # unknown for every scene (not the field's default)
                 continue
             raise InputError(f"Scene.{name} is given for some scenes but not others")
         fields[name] = np.array(vals, dtype=float)
@@ -483,6 +484,9 @@ def impact_outcomes(
     n_steps = int(n_steps)
     sc = _stack_scenes(scenes)
     _check_target(sc)
+    sc.require(*(("mu",) if tangential != "none" else ()), why=f"the {tangential!r} model")
+    if param is None and alpha is None or normal is None:
+        sc.require("e", why="calibrating the normal law's damping")
     hi = contact.hertz_impact(sc)
     arrs = np.broadcast_arrays(
         *(
@@ -499,8 +503,8 @@ def impact_outcomes(
                 sc.target_radius,
                 sc.v_t0,
                 sc.spin,
-                sc.mu,
-                sc.e,
+                0.0 if sc.mu is None else sc.mu,  # None: a frictionless model
+                np.nan if sc.e is None else sc.e,  # None: damping given by param/alpha
                 sc.G_eff,
                 sc.R_eff,
             )

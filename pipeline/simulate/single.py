@@ -102,7 +102,9 @@ def _setup(scene: Scene, normal, alpha=None, param=None, target_kappa=None) -> _
                 f"(Scene.{name} has {v.size} values)"
             )
     law = _law(normal)
-    if normal == "hertz" and scene.e < 1:
+    if param is None and alpha is None:
+        scene.require("e", why="calibrating the normal law's damping")
+    if normal == "hertz" and scene.e is not None and scene.e < 1:
         raise InputError(
             f"the elastic 'hertz' law cannot give e = {scene.e}; choose a damped "
             "law, e.g. normal='hunt_crossley'"
@@ -141,7 +143,7 @@ def _setup(scene: Scene, normal, alpha=None, param=None, target_kappa=None) -> _
         fscale=fscale,
         kel=hi.K * hi.delta_max**2.5 / (hi.m_eff * v0**2),
         kt_coef=kt_coef,
-        mu=float(scene.mu),
+        mu=0.0 if scene.mu is None else float(scene.mu),  # None: frictionless model
         lam=lam,
         s0=abs(s0) / v0,
         vt0=sign * vt0 / v0,
@@ -428,6 +430,10 @@ def impact(
         raise InputError("samples must be at least 3")
     if not isinstance(scene, Scene):
         raise InputError("impact() needs a pipeline.Scene")
+    if tangential != "none":
+        scene.require("mu", why=f"the {tangential!r} tangential model")
+    if normal is None:
+        scene.require("e", why="choosing the default normal law")
     normal_name = default_normal(scene.e) if normal is None else normal
     pb = _setup(scene, normal_name, alpha, param, target_kappa)
     atol = rtol if atol is None else atol
