@@ -68,6 +68,10 @@ class Analysis:
         Where the rigid model's μ and e came from: ``"scene"``, ``"record"`` (estimated
         from the record: μ by :func:`estimate_mu`, e by Poisson's coefficient) or
         ``"given"`` (a number passed to :func:`analyse`).
+    resolution : pipeline.percussion.Resolution
+        What the record's sampling, noise, ADC, bandwidth and baseline let the percussions
+        resolve; ``resolution.flags`` names every failure region it is in (each also a
+        :class:`~pipeline.percussion.ResolutionWarning`; docs/stability.md).
     """
 
     scene: Scene
@@ -83,6 +87,7 @@ class Analysis:
     source: str
     options: dict
     sources: dict = dataclasses.field(default_factory=dict)
+    resolution: object = None
 
     @property
     def record(self) -> xr.Dataset:
@@ -126,6 +131,7 @@ class Analysis:
                 },
                 "score": self.score.summary(),
                 "score_fit": self.score_fit.summary(),
+                "resolution": None if self.resolution is None else self.resolution.summary(),
             }
         )
 
@@ -279,6 +285,7 @@ def analyse(
     )
     rigid_scene = scene.replace(mu=mu_v, e=e_v)
     rigid = _rigid.sphere_on_plane(rigid_scene)
+    res = _perc.resolution(win, perc, record=record, scale=_score.references(rigid))
     boot = _bootstrap(win, perc, fits, n_boot, seed)
     score = _score.deviation_score(
         perc.time,
@@ -326,6 +333,7 @@ def analyse(
         source=source,
         options=options,
         sources={"mu": mu_src, "e": e_src},
+        resolution=res,
     )
 
 

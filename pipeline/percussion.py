@@ -55,6 +55,37 @@ impulse falls short of :math:`m^* v_{n0}`, i.e. contradicts the scene).
 For a sphere on a plane (contact normal through the centre of mass) the three coincide
 (PHYSICS.md §2); they differ here only if the split is not at :math:`v_n = 0`.
 
+**What the record can resolve** (:func:`resolution`). Every way of computing percussions
+above fails, silently, once the record itself is too coarse; the stability maps
+(``benchmarks/bench_stability.py``, docs/stability.md) chart where. :func:`resolution`
+checks a windowed record against those regions and flags (a :class:`ResolutionWarning`)
+each one it is in, with the number that tripped it:
+
+- *sparse sampling*: fewer than :data:`MIN_SAMPLES_PER_CONTACT` samples of a channel over
+  the contact;
+- *noise*: white noise σ (the window's estimate) propagates into a percussion from the
+  samples with the quadrature weights :math:`w_i`, :math:`\mathrm{sd}(P_f) = \sigma
+  \sqrt{\sum_i w_i^2}` (≈ σ·Δt·√n); flagged when three of it exceed ``tol`` of the
+  percussion's scale (then more than 0.3 % of such records miss by more than ``tol``);
+- *coarse ADC*: a raw channel whose values lie on a grid of step q (an ADC's quantum,
+  or a file's printed resolution) with q above :data:`MAX_ADC_STEP` of the channel's
+  peak force and above the noise σ (noise of at least one step dithers the quantiser:
+  its error is then noise-like, part of σ, and the noise check covers it);
+- *filter bandwidth*: where the record states its bandwidth f_c (attribute
+  ``sensor_bandwidth`` [Hz], as :func:`pipeline.sensor_model.to_sensor` writes it),
+  f_c·(contact duration) below :data:`MIN_BANDWIDTH_PRODUCT`: the low-pass smears the
+  pulse and its tangential reversal;
+- *curved baseline*: a parabola fitted by least squares to the residuals of the window's
+  linear baseline outside the contact, integrated over the contact, predicts what the
+  line leaves in the percussions; flagged when that exceeds a third of ``tol`` and three
+  of its own standard errors (a linear drift is removed exactly; a curved one is not).
+
+One check concerns the fitted curve alone: where the fit's percussion departs from the
+Simpson integral of the samples by more than half of ``tol`` (and by more than three noise
+standard deviations, which the samples' integral carries and the fit smooths away), the
+fit misses the pulse; it is flagged as a poor fit (``fit_flags``, a
+:class:`~pipeline.errors.PoorFitWarning`), the samples' integrals are not.
+
 References
 ----------
 F.-C. Ciornei et al., MATEC Web Conf. 112:07005 (2017), doi:10.1051/matecconf/201711207005.
@@ -73,13 +104,16 @@ import xarray as xr
 from scipy import integrate, optimize
 
 from ._json import json_ready
-from .errors import InputError, PipelineWarning
+from .errors import InputError, PipelineWarning, PoorFitWarning
 from .record import channel
 
 __all__ = [
     "Percussions",
     "CompressionSplit",
+    "Resolution",
+    "ResolutionWarning",
     "percussions",
+    "resolution",
     "cumulative_percussion",
     "compression_split",
     "normal_work",
@@ -88,6 +122,10 @@ __all__ = [
     "restitution_energetic",
     "SOURCES",
     "METHODS",
+    "RESOLUTION_TOL",
+    "MIN_SAMPLES_PER_CONTACT",
+    "MAX_ADC_STEP",
+    "MIN_BANDWIDTH_PRODUCT",
 ]
 
 #: Where a percussion comes from: the fitted curve or the raw samples.
@@ -96,6 +134,19 @@ SOURCES = ("fit", "trapezoid", "simpson")
 METHODS = ("auto", "momentum", "closure", "peak_force")
 
 _GAUSS_X, _GAUSS_W = np.polynomial.legendre.leggauss(5)
+
+#: Relative error of a percussion above which :func:`resolution` flags the record [-].
+RESOLUTION_TOL = 0.02
+#: Fewest samples of a channel over the contact (stability map "noise × sampling rate").
+MIN_SAMPLES_PER_CONTACT = 20
+#: Largest undithered ADC step over the channel's peak force [-] (map "ADC resolution").
+MAX_ADC_STEP = 0.02
+#: Smallest bandwidth × contact duration f_c·t_c [-] (map "bandwidth × contact duration").
+MIN_BANDWIDTH_PRODUCT = 3.0
+
+
+class ResolutionWarning(PipelineWarning):
+    """The record is too sparse, noisy, coarse or smeared for percussions within tolerance."""
 
 
 # ------------------------------------------------------------------ coefficients
@@ -669,3 +720,281 @@ def compression_split(
         W_c=W_c,
         W_r=W_r,
     )
+
+
+# ------------------------------------------------------------------ what the record resolves
+@dataclass(frozen=True)
+class Resolution:
+    """How far a windowed record's sampling, noise, ADC, bandwidth and baseline limit its
+    percussions (module notes; the thresholds come from the stability maps).
+
+    Every relative error is over the channel's percussion scale (:func:`resolution`'s
+    ``scale``: in :func:`pipeline.analyse`, the deviation score's P_ref and Pt_ref).
+
+    Attributes
+    ----------
+    n_samples : dict
+        Samples of each channel inside the contact window.
+    noise_error : dict
+        Standard deviation of each channel's final percussion from the window's white
+        noise, relative [-] (NaN where the noise is unknown).
+    adc_step : dict
+        Step of the grid the raw values lie on [N] (0 where none was found or no raw
+        record was given).
+    adc_error : dict
+        ``adc_step`` over the channel's peak |F| in the window [-].
+    bandwidth_product : float
+        Stated bandwidth × contact duration f_c·(t_e − t_s) [-] (NaN when not stated).
+    baseline_error : dict
+        Percussion the window's linear baseline leaves under the pulse when the baseline
+        is curved (parabola fitted outside the contact), relative [-] (NaN when no
+        baseline was fitted).
+    fit_departure : dict
+        Largest |P_fit − P_simpson| over the contact, relative [-] (module notes).
+    flags : dict
+        ``{region: message}`` for every failure region the record is in (empty: none);
+        these limit every way of computing the percussions.
+    fit_flags : dict
+        ``{region: message}`` that concern the fitted curve's percussions alone.
+    tol : float
+        The relative tolerance of the checks [-].
+    """
+
+    n_samples: dict
+    noise_error: dict
+    adc_step: dict
+    adc_error: dict
+    bandwidth_product: float
+    baseline_error: dict
+    fit_departure: dict
+    flags: dict
+    fit_flags: dict
+    tol: float
+
+    @property
+    def ok(self) -> bool:
+        """True when the record is in no failure region."""
+        return not self.flags
+
+    def summary(self) -> dict:
+        """JSON-ready dict (NaN → None)."""
+        return json_ready(
+            {
+                "n_samples": self.n_samples,
+                "noise_error": self.noise_error,
+                "adc_step_N": self.adc_step,
+                "adc_error": self.adc_error,
+                "bandwidth_product": self.bandwidth_product,
+                "baseline_error": self.baseline_error,
+                "fit_departure": self.fit_departure,
+                "flags": self.flags,
+                "fit_flags": self.fit_flags,
+                "tol": self.tol,
+            }
+        )
+
+
+def _trapezoid_weights(t):
+    """Weights w_i of the trapezoid rule on the instants ``t``: ∫F dt ≈ Σ w_i F_i [s]."""
+    w = np.zeros(t.size)
+    dt = np.diff(t)
+    w[:-1] += 0.5 * dt
+    w[1:] += 0.5 * dt
+    return w
+
+
+def adc_step(values) -> float:
+    """Step of the grid the values lie on [same unit], 0 when they lie on none.
+
+    The smallest gap q between distinct values, or q/2, q/3, q/4 when the gaps are not all
+    whole multiples of q (to 1e-3 of q): the ADC quantum of a raw converter output, or the
+    printed resolution of a file's column. Needs three distinct values.
+    """
+    u = np.unique(np.asarray(values, dtype=float))
+    if u.size < 3:
+        return 0.0
+    gaps = np.diff(u)
+    base = float(gaps.min())
+    for div in (1, 2, 3, 4):
+        q = base / div
+        k = gaps / q
+        if np.all(np.abs(k - np.round(k)) < 1e-3):
+            return q
+    return 0.0
+
+
+def resolution(
+    window,
+    perc: Percussions,
+    *,
+    record=None,
+    scale=None,
+    tol: float = RESOLUTION_TOL,
+    warn: bool = True,
+) -> Resolution:
+    """Check a windowed record against the failure regions of the percussions.
+
+    Parameters
+    ----------
+    window : pipeline.window.ContactWindow
+        The contact window (its noise estimates and baselines are used).
+    perc : Percussions
+        The percussions of that window (:func:`percussions`).
+    record : xarray.Dataset, optional
+        The raw record the window was cut from (for the ADC step and the baseline check);
+        without it those checks are skipped.
+    scale : (float, float), optional
+        The normal and tangential percussion scales [N·s] the errors are relative to
+        (:func:`pipeline.analyse` passes the deviation score's P_ref and Pt_ref); default
+        each channel's largest |P| from the samples.
+    tol : float
+        Relative error of a percussion that the record must stay within [-].
+    warn : bool
+        Issue one :class:`ResolutionWarning` listing every region the record is in, and a
+        :class:`~pipeline.errors.PoorFitWarning` for ``fit_flags``.
+
+    Returns
+    -------
+    Resolution
+
+    Notes
+    -----
+    See the module notes for each check. :data:`MIN_SAMPLES_PER_CONTACT`,
+    :data:`MAX_ADC_STEP` and :data:`MIN_BANDWIDTH_PRODUCT` are where the stability maps
+    (docs/stability.md) measured the percussions' error crossing ``RESOLUTION_TOL``.
+    """
+    rec = window.record
+    ts, te = perc.t_start, perc.t_end
+    n, noise_err, step, adc_err, base_err, depart = {}, {}, {}, {}, {}, {}
+    base_z = {}
+    for i, (c, comp) in enumerate((("Fn", "n"), ("Ft", "t"))):
+        P = getattr(perc, f"P{comp}_trapezoid")
+        if P is None or c not in rec:
+            continue
+        ref = float(np.max(np.abs(P))) if scale is None else float(scale[i])
+        t, f = channel(rec, c)
+        n[c] = int(t.size)
+        sigma = float(window.noise.get(c, float("nan")))
+        tp, _ = _pad(t, f, ts, te)
+        w = _trapezoid_weights(tp)[np.isin(tp, t)]  # the padded ends carry no noise
+        with np.errstate(invalid="ignore", divide="ignore"):
+            noise_err[c] = float(sigma * np.sqrt(np.sum(w * w)) / ref)
+        peak = float(np.max(np.abs(f)))
+        step[c] = adc_step(record[c].values) if record is not None and c in record else 0.0
+        adc_err[c] = step[c] / peak if peak > 0 else float("nan")
+        dP, se = _baseline_left(record, window, c)
+        base_err[c] = abs(dP) / ref
+        diff = getattr(perc, f"P{comp}_fit") - getattr(perc, f"P{comp}_simpson")
+        depart[c] = float(np.max(np.abs(diff)) / ref)
+        base_z[c] = abs(dP) / se if se > 0 else float("nan")
+    flags = {}
+    low = {c: k for c, k in n.items() if k < MIN_SAMPLES_PER_CONTACT}
+    if low:
+        flags["sparse sampling"] = (
+            ", ".join(f"{c} has {k} samples" for c, k in low.items())
+            + f" over the contact; below {MIN_SAMPLES_PER_CONTACT} the percussions' maximum "
+            f"and end are off by more than {tol:g} whatever the method"
+        )
+    loud = {c: v for c, v in noise_err.items() if 3.0 * v > tol}
+    if loud:
+        flags["noise"] = (
+            ", ".join(f"{c}: sd(P_f) = {v:.2g}" for c, v in loud.items())
+            + f" of its scale from the white noise (σ·√Σw²); three of it exceed tol = {tol:g}"
+        )
+    coarse = {
+        c: v
+        for c, v in adc_err.items()
+        if v > MAX_ADC_STEP and not float(window.noise.get(c, 0.0)) >= step[c]
+    }
+    if coarse:
+        flags["coarse ADC"] = (
+            ", ".join(
+                f"{c} steps by {step[c]:.4g} N = {v:.2g} of its peak" for c, v in coarse.items()
+            )
+            + f", above {MAX_ADC_STEP:g} and above the noise: the quantisation alone moves the "
+            f"percussions by more than {tol:g}"
+        )
+    fc = float(rec.attrs.get("sensor_bandwidth", float("nan")))
+    product = fc * (te - ts) if np.isfinite(fc) else float("nan")
+    if product < MIN_BANDWIDTH_PRODUCT:
+        flags["filter bandwidth"] = (
+            f"the stated bandwidth {fc:.4g} Hz times the contact duration {te - ts:.4g} s is "
+            f"{product:.3g} < {MIN_BANDWIDTH_PRODUCT:g}: the low-pass smears the pulse and its "
+            "tangential reversal"
+        )
+    curved = {c: v for c, v in base_err.items() if 3.0 * v > tol and base_z[c] > 3.0}
+    if curved:
+        flags["curved baseline"] = (
+            ", ".join(f"{c}: {v:.2g} of its scale" for c, v in curved.items())
+            + " left under the pulse by the linear baseline (a parabola fitted outside the "
+            f"contact, {max(base_z[c] for c in curved):.3g} standard errors); three of it "
+            f"exceed tol = {tol:g}"
+        )
+    fit_flags = {}
+    off = {
+        c: v
+        for c, v in depart.items()
+        if v > 0.5 * tol and not v <= 3.0 * noise_err.get(c, float("nan"))
+    }
+    if off:
+        fit_flags["fit off the samples"] = (
+            ", ".join(f"{c}: {v:.2g}" for c, v in off.items())
+            + f" of its scale between the fit's percussion and the samples' Simpson integral, "
+            f"above tol/2 = {0.5 * tol:g} and three noise standard deviations: the fitted "
+            "curve misses the pulse; use the samples' integrals (source='simpson')"
+        )
+    if warn and flags:
+        warnings.warn(
+            "the record limits its percussions: "
+            + "; ".join(f"{k}: {v}" for k, v in flags.items())
+            + " (docs/stability.md names each region)",
+            ResolutionWarning,
+            stacklevel=2,
+        )
+    if warn and fit_flags:
+        warnings.warn(
+            f"fitted curve: {fit_flags['fit off the samples']}", PoorFitWarning, stacklevel=2
+        )
+    return Resolution(
+        n_samples=n,
+        noise_error=noise_err,
+        adc_step=step,
+        adc_error=adc_err,
+        bandwidth_product=product,
+        baseline_error=base_err,
+        fit_departure=depart,
+        flags=flags,
+        fit_flags=fit_flags,
+        tol=float(tol),
+    )
+
+
+def _baseline_left(record, window, name) -> tuple[float, float]:
+    """What the window's linear baseline leaves in the channel's percussion [N·s], and its
+    standard error: a parabola fitted by least squares to the raw channel minus that line
+    outside the contact ± a quarter of its duration (where the line was fitted),
+    integrated over the contact. (NaN, NaN) without a raw record or a fitted baseline."""
+    nan = (float("nan"), float("nan"))
+    base = window.baseline.get(name)
+    if record is None or base is None or name not in record:
+        return nan
+    if base.offset == 0 and base.slope == 0:  # nothing fitted (digitised, simulated)
+        return nan
+    t, f = channel(record, name)
+    ts, te = window.t_start, window.t_end
+    g = 0.25 * (te - ts)
+    out = (t < ts - g) | (t > te + g)
+    if np.count_nonzero(out) < 10:
+        return nan
+    mid, half = 0.5 * (t[0] + t[-1]), 0.5 * (t[-1] - t[0])
+    A = np.polynomial.legendre.legvander((t[out] - mid) / half, 2)
+    coef, *_ = np.linalg.lstsq(A, (f - base(t))[out], rcond=None)
+    resid = (f - base(t))[out] - A @ coef
+    s2 = float(resid @ resid) / max(A.shape[0] - 3, 1)
+    # ∫ over the contact of each Legendre term, exactly (Gauss–Legendre, 3 points)
+    x, wq = np.polynomial.legendre.leggauss(3)
+    tq = 0.5 * (ts + te) + 0.5 * (te - ts) * x
+    v = (0.5 * (te - ts) * wq) @ np.polynomial.legendre.legvander((tq - mid) / half, 2)
+    dP = float(v @ coef)
+    se = float(np.sqrt(s2 * (v @ np.linalg.solve(A.T @ A, v))))
+    return dP, se

@@ -12,6 +12,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import warnings
 
 import numpy as np
@@ -21,11 +22,17 @@ from scipy.integrate import solve_ivp
 from pipeline.contact import calibrate_hunt_crossley_family, hertz_impact, hertz_pulse
 from pipeline.errors import InputError, PipelineWarning, PoorFitWarning
 from pipeline.percussion import (
+    MIN_BANDWIDTH_PRODUCT,
+    MIN_SAMPLES_PER_CONTACT,
+    RESOLUTION_TOL,
     SOURCES,
+    ResolutionWarning,
+    adc_step,
     compression_split,
     cumulative_percussion,
     normal_work,
     percussions,
+    resolution,
     restitution_energetic,
     restitution_newton,
     restitution_poisson,
@@ -258,3 +265,151 @@ def test_summaries_are_strict_json():
     assert s.summary()["e_newton"] is None
     assert w.summary()["noise_N"]["Fn"] is None
     assert s.summary()["method"] == "closure"
+
+
+# ------------------------------------------------------------------ resolution (stability maps)
+# A Garland–Rogers-like impact (PHYSICS.md §5): 25.4 mm steel ball on a steel cap, 15°,
+# Mindlin contact with a tangential reversal, through the sensor model without cross-talk.
+GR = Scene(
+    radius=0.0127,
+    density=7850.0,
+    E=210e9,
+    nu=0.29,
+    target_E=210e9,
+    target_nu=0.29,
+    target_radius=0.0254,
+    speed=0.6,
+    angle_deg=15.0,
+    mu=0.131,
+    e=0.9,
+)
+
+
+@pytest.fixture(scope="module")
+def gr_ideal():
+    from pipeline.simulate import impact
+
+    return impact(GR)
+
+
+def _resolve(record, **kw):
+    """find_contact → percussions (the spline, which follows the pulse) → resolution."""
+    w = find_contact(record)
+    return resolution(w, percussions(w), record=record, **kw)
+
+
+def _sensor(ideal, **kw):
+    from pipeline.sensor_model import to_sensor
+
+    kw = {"seed": 3, "crosstalk": 0.0, **kw}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the sensor model's saturation warning is not ours
+        return to_sensor(ideal, **kw)
+
+
+def test_noise_error_is_the_trapezoid_weights_closed_form_and_matches_monte_carlo():
+    # uniform samples: trapezoid weights dt inside, dt/2 at the two ends, so
+    # sd(P_f) = σ·dt·√(n − 3/2) for n samples (no padded ends: the window spans the samples)
+    rng = np.random.default_rng(0)
+    n, dt, sigma = 201, 0.5e-6, 3.0
+    t = T0 + np.arange(n) * dt
+    clean = hertz_pulse(t - T0, IMPACT)["F"]
+    ends = []
+    for _ in range(400):
+        rec = make_record(
+            t,
+            {"Fn": clean + sigma * rng.standard_normal(n)},
+            attrs={"source": "mc", "format": "test", "kind": "digitised"},
+        )
+        ends.append(cumulative_percussion(t, rec["Fn"].values).values[-1])
+    mc = np.std(ends, ddof=1)
+    want = sigma * dt * np.sqrt(n - 1.5)
+    # 400 draws: the sample sd is within 3·(1/√(2·399)) ≈ 11 % of the true sd
+    assert mc == pytest.approx(want, rel=0.11)
+    # a digitised record's window spans its samples and estimates no noise: give it σ
+    w = dataclasses.replace(find_contact(rec), noise={"Fn": sigma})
+    p = percussions(w, fitted(w, method="spline"))
+    res = resolution(w, p, scale=(1.0, 1.0), warn=False)
+    assert res.noise_error["Fn"] == pytest.approx(want, rel=1e-12)
+
+
+def test_adc_step_finds_the_grid_of_quantised_and_printed_values():
+    rng = np.random.default_rng(1)
+    q = 5000.0 / 2**12
+    codes = rng.integers(-300, 300, 500)
+    assert adc_step(codes * q + 0.0) == pytest.approx(q, rel=1e-9)
+    # every other code only: the smallest gap is 2q and the grid 2q
+    assert adc_step(2 * codes * q) == pytest.approx(2 * q, rel=1e-9)
+    # gaps of 2q and 3q only: the grid is q (the smallest gap over 2)
+    vals = np.cumsum(np.tile([2, 3], 50)) * q
+    assert adc_step(vals) == pytest.approx(q, rel=1e-9)
+    # a column printed with three decimals
+    assert adc_step(np.round(rng.normal(0, 10, 300), 3)) == pytest.approx(1e-3, rel=1e-6)
+    assert adc_step(rng.normal(0, 10, 300)) == 0.0  # continuous values: no grid
+    assert adc_step([1.0, 2.0]) == 0.0  # fewer than three distinct values
+
+
+def test_a_clean_dense_record_is_in_no_failure_region(gr_ideal):
+    res = _resolve(_sensor(gr_ideal, noise=0.5))
+    assert res.ok and not res.flags
+    assert res.n_samples["Fn"] > 200
+    assert res.bandwidth_product > 3.0 and res.adc_error["Ft"] < 0.02
+
+
+def test_sparse_sampling_is_flagged(gr_ideal):
+    t_c = gr_ideal.attrs["t_contact"]
+    rate = 12 / t_c  # 12 samples over the contact, ~14 in the window around it
+    rec = _sensor(gr_ideal, noise=0.5, rate=rate, pre_trigger=40 / rate, post_trigger=80 / rate)
+    with pytest.warns(ResolutionWarning, match="sparse sampling: Fn has 1[2-5] samples"):
+        res = _resolve(rec)
+    assert "sparse sampling" in res.flags and res.n_samples["Fn"] < MIN_SAMPLES_PER_CONTACT
+
+
+def test_noise_is_flagged_when_three_sd_exceed_the_tolerance(gr_ideal):
+    with pytest.warns(ResolutionWarning, match=r"noise: .*Ft: sd\(P_f\)"):
+        res = _resolve(_sensor(gr_ideal, noise=40.0))
+    # 3 % of F_max on Ft (≈ 0.1·Fn): the tangential percussion's sd is several per cent
+    assert res.noise_error["Ft"] > RESOLUTION_TOL / 3 > res.noise_error["Fn"]
+
+
+def test_a_stated_narrow_bandwidth_is_flagged(gr_ideal):
+    t_c = gr_ideal.attrs["t_contact"]
+    with pytest.warns(ResolutionWarning, match="filter bandwidth: the stated bandwidth"):
+        res = _resolve(_sensor(gr_ideal, noise=0.5, bandwidth=1.0 / t_c))
+    # the filter's tail lengthens the window: f_c·(t_e − t_s) a little above 1
+    assert 1.0 < res.bandwidth_product < MIN_BANDWIDTH_PRODUCT
+
+
+def test_a_coarse_undithered_adc_is_flagged_a_dithered_one_is_noise(gr_ideal):
+    with pytest.warns(ResolutionWarning, match="coarse ADC: Ft steps by 19.53 N"):
+        res = _resolve(_sensor(gr_ideal, bits=8, noise=0.5))
+    assert res.adc_step["Ft"] == pytest.approx(5000.0 / 2**8, rel=1e-9)
+    # noise of several steps dithers the converter: no ADC flag (the noise check decides)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ResolutionWarning)
+        res = _resolve(_sensor(gr_ideal, bits=8, noise=60.0))
+    assert "coarse ADC" not in res.flags and "noise" in res.flags
+
+
+def test_a_curved_baseline_is_flagged_a_linear_drift_is_not(gr_ideal):
+    rec = _sensor(gr_ideal, noise=0.5, drift=(2e5, -1e5, 0.0))
+    res = _resolve(rec)  # a linear drift: removed exactly, nothing to flag
+    assert res.ok and res.baseline_error["Fn"] < 1e-3
+    t = rec["time"].values
+    u = (t - 0.5 * (t[0] + t[-1])) / (0.5 * (t[-1] - t[0]))
+    bent = rec.copy()
+    bent["Ft"] = rec["Ft"] + 10.0 * u**2  # 10 N at the record's ends, 0 mid-record
+    bent["Ft"].attrs = dict(rec["Ft"].attrs)
+    with pytest.warns(ResolutionWarning, match="curved baseline: Ft"):
+        res = _resolve(bent)
+    assert res.baseline_error["Ft"] > RESOLUTION_TOL / 3
+
+
+def test_a_fit_off_the_samples_is_a_poor_fit_not_a_record_flag(gr_ideal):
+    # the seed's quartic cannot follow the tangential reversal of a dense Mindlin record
+    w = find_contact(_sensor(gr_ideal, noise=0.5))
+    p = percussions(w, fitted(w, method="polynomial", degree=4))
+    with pytest.warns(PoorFitWarning, match="fitted curve: .*Ft: .* misses the pulse"):
+        res = resolution(w, p)
+    assert "fit off the samples" in res.fit_flags and res.ok
+    assert res.fit_departure["Ft"] > RESOLUTION_TOL / 2
