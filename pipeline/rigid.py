@@ -50,14 +50,16 @@ E. J. Routh, Dynamics of a System of Rigid Bodies, Macmillan (1905).
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import InputError
+from .errors import InputError, PipelineWarning
 from .scene import Scene
 
 __all__ = [
+    "EnergyGainWarning",
     "SphereOnPlane",
     "PlanarImpact",
     "RodContact",
@@ -479,6 +481,8 @@ class PlanarImpact:
     t_sign : float — −1 where the t axis was flipped internally (v_t0 < 0, or a slip
         onset along −t), else +1; the physical impulse along the caller's +t is
         −t_sign·Pt.
+    energy_gain : bool — the impact creates kinetic energy (dKE > 1e-9·|W_c|): Kane's
+        paradox, which only Newton's law exhibits; flagged by an :class:`EnergyGainWarning`
     """
 
     Pt: object
@@ -497,6 +501,11 @@ class PlanarImpact:
     W_r: object
     vertices: np.ndarray
     t_sign: object
+    energy_gain: object = False
+
+
+class EnergyGainWarning(PipelineWarning):
+    """A rigid-body impact law created kinetic energy (Kane's paradox under Newton's law)."""
 
 
 def planar_impact(W, v_t0, v_n0, mu, e, law="poisson") -> PlanarImpact:
@@ -525,6 +534,14 @@ def planar_impact(W, v_t0, v_n0, mu, e, law="poisson") -> PlanarImpact:
     Returns
     -------
     PlanarImpact
+
+    Warns
+    -----
+    EnergyGainWarning
+        Where the end point raises the kinetic energy (``energy_gain``): Newton's law when
+        the slip stops or reverses with the contact normal off the centre of mass (Kane's
+        paradox; the slender rod of PHYSICS.md §3). The numbers are the law's, not
+        physics: use ``law="energetic"`` (Stronge), which never creates energy.
 
     Notes
     -----
@@ -671,6 +688,22 @@ def planar_impact(W, v_t0, v_n0, mu, e, law="poisson") -> PlanarImpact:
     mode = np.where((vt == 0) & stick_ok, "sticking", mode)
     mode = np.where(onset, "slip-onset", mode)
 
+    # energy created: beyond the rounding of ΔKE, a difference of terms of order |W_c|
+    gain = dKE > 1e-9 * np.abs(W_c)
+    if np.any(gain):
+        n_gain, n_all = int(np.count_nonzero(gain)), int(gain.size)
+        where = "" if n_all == 1 else f" in {n_gain} of {n_all} impacts"
+        warnings.warn(
+            f"planar_impact: law={law!r} creates kinetic energy{where} (ΔKE up to "
+            f"{float(np.max(np.where(gain, dKE, -np.inf))):.4g} J, modes "
+            f"{sorted(set(np.atleast_1d(mode)[np.atleast_1d(gain)].tolist()))}): Kane's "
+            "paradox — the slip stops or reverses with the contact normal off the centre of "
+            "mass. These numbers are the law's, not physics; use law='energetic' (Stronge), "
+            "which never creates energy",
+            EnergyGainWarning,
+            stacklevel=2,
+        )
+
     zero = np.zeros_like(Pn_f)
     Pn_mid = np.minimum(np.where(np.isfinite(Pn_s), Pn_s, Pn_f), Pn_f)
     Pt_mid = mu * Pn_mid
@@ -699,4 +732,5 @@ def planar_impact(W, v_t0, v_n0, mu, e, law="poisson") -> PlanarImpact:
         W_r=_out(W_r),
         vertices=vertices,
         t_sign=_out(t_sign),
+        energy_gain=_out(gain),
     )
