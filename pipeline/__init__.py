@@ -10,10 +10,11 @@ from .errors import InputError
 from .scene import Scene
 
 __version__ = "0.1.0"
-__all__ = ["InputError", "Scene", "analyse", "__version__"]
+__all__ = ["InputError", "Scene", "advise", "analyse", "__version__"]
 
 
 _SUBMODULES = {
+    "advise",
     "analysis",
     "contact",
     "errors",
@@ -40,6 +41,11 @@ def __getattr__(name):
 
     if name == "analyse":
         return importlib.import_module(".analysis", __name__).analyse
+    if name == "advise":
+        # the function, not its module (which has the same name; see pipeline/advise.py)
+        fn = importlib.import_module(".advise", __name__).advise
+        globals()["advise"] = fn
+        return fn
     if name in _SUBMODULES:
         return importlib.import_module(f".{name}", __name__)
     raise AttributeError(f"module 'pipeline' has no attribute {name!r}")
