@@ -32,11 +32,16 @@ The reason names the region of the maps the scene lies in, with Maw, Barber & Fa
 groups: the stiffness ratio :math:`\eta = 2G^*/E^*` (= (1−ν)/(2−ν) for like materials),
 :math:`\chi = \eta\,(1 + 1/\kappa)` and the normalised incidence
 :math:`\psi_1 = 2\eta\,|s_0|/(\mu v_{n0})`. Rigid theory predicts sliding throughout for
-:math:`\psi_1 \ge 2\chi(1+e)` (= 4χ for e = 1, Maw et al.'s criterion); there a compliant
-contact slides from its first instant too (the Mindlin spring meets the Coulomb cap at
-once, since ψ1 ≥ 2χ(1+e) > 2/3), so Ft = μ·Fn throughout in every model and the rigid
-answer is exact. Below it the contact sticks, and tangential compliance decides e_t and ω
-(Ft reverses, more often as χ grows).
+:math:`\psi_1 \ge 2\chi(1+e)` (= 4χ for e = 1, Maw et al.'s criterion). A compliant
+contact slides from its first instant when the Mindlin spring, loaded by the slip, meets
+the Coulomb cap at once: near first contact δ ≈ v_n0·t, the spring force
+8G*√(R*δ)·s0·t over μ·K·δ^{3/2}·(1 + c) is 1.5·ψ1/(1 + c) (c the Hunt–Crossley damping,
+0 for Hertz). So for ψ1 ≥ max(2χ(1+e), 2(1+c)/3) Ft = μ·Fn at every instant in every
+model and the rigid answer is exact; for elastic and lightly damped contacts the first
+bound is the larger. Heavy damping (e → 0, c large) keeps the contact stuck at first even
+where rigid theory slides, and rigid theory is off there (the "restitution" map: 0.08 in
+e_t at 45° for e = 0.01). Below the sliding boundary the contact sticks, and tangential
+compliance decides e_t and ω (Ft reverses, more often as χ grows).
 
 The comparison is as exact as the integrations behind it: the adaptive single-impact
 solver at ``rtol`` (default 1e-9) and Simpson integrals over ``samples`` = 4001 samples,
@@ -281,10 +286,16 @@ def _reason(scene, rung, worst, errors, tol, rig, psi1, chi) -> str:
     crit = 2.0 * chi * (1.0 + e)
     if float(scene.mu) == 0 or rig.slip0 == 0:
         where = "no friction impulse (μ = 0 or no initial slip): Pt = 0 in every model"
-    elif rig.regime == "sliding":
+    elif rig.regime == "sliding" and rung == "rigid":
         where = (
             f"sliding throughout (ψ1 = {psi1:.3g} ≥ 2χ(1+e) = {crit:.3g}): Ft = μ·Fn at every "
             "instant in every model"
+        )
+    elif rig.regime == "sliding":
+        where = (
+            f"rigid theory slides throughout (ψ1 = {psi1:.3g} ≥ 2χ(1+e) = {crit:.3g}) but the "
+            "compliant contact does not slide from its first instant (the normal damping "
+            "raises the Coulomb cap above the Mindlin spring)"
         )
     else:
         where = (

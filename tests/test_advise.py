@@ -131,3 +131,14 @@ def test_bad_requests_raise_input_error():
         advise(s, quantities=["vt"])
     with pytest.raises(InputError, match="needs mu"):
         advise(s.replace(mu=None))
+
+
+def test_heavy_damping_sticks_where_rigid_theory_slides():
+    # derived (module notes): near first contact the spring over the cap is 1.5·ψ1/(1 + c);
+    # Hunt–Crossley at e = 0.01 has a large c, so at 45° (rigid: sliding, ψ1 ≈ 6.3 ≥
+    # 2χ(1+e)) the contact sticks first and rigid theory is off
+    s = Scene(angle_deg=45.0, **{**STEEL, "e": 0.01})
+    a = advise(s)
+    assert a.regime == "sliding" and a.model == "mindlin"
+    assert a.reason.startswith("rigid theory slides throughout")
+    assert a.errors["e_t"]["rigid"] > 1e-2
