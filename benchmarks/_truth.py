@@ -14,11 +14,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import integrate
 
 from pipeline import Scene
 from pipeline import rigid as _rigid
 from pipeline import score as _score
+from pipeline.percussion import cumulative_percussion
 from pipeline.simulate import impact
 
 #: The bundled 15° Garland–Rogers-style scene (README): 25.4 mm steel ball on a steel cap.
@@ -64,8 +64,9 @@ def truth(scene: Scene) -> Truth:
     """The dense simulated record of ``scene`` and its exact percussions and score."""
     sim = impact(scene, samples=TRUTH_SAMPLES)
     t = sim["time"].values
-    Pn = integrate.cumulative_simpson(sim["Fn"].values, x=t, initial=0.0)
-    Pt = integrate.cumulative_simpson(sim["Ft"].values, x=t, initial=0.0)
+    Pn, Pt = (
+        cumulative_percussion(t, sim[c].values, method="simpson").values for c in ("Fn", "Ft")
+    )
     rig = _rigid.sphere_on_plane(scene)
     area = _score.deviation_metrics(t, Pn, Pt, rig, scene.m_eff * scene.v_n0)["total"]["area"]
     return Truth(

@@ -62,7 +62,6 @@ import types
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import integrate
 
 from ._json import json_ready
 from .errors import InputError
@@ -157,9 +156,13 @@ def _f(x):
 
 
 def _percussions(rec):
+    """(t, Pn, Pt) of a dense simulated record: cumulative Simpson integrals [s, N·s]."""
+    from .percussion import cumulative_percussion
+
     t = rec["time"].values
-    Pn = integrate.cumulative_simpson(rec["Fn"].values, x=t, initial=0.0)
-    Pt = integrate.cumulative_simpson(rec["Ft"].values, x=t, initial=0.0)
+    Pn, Pt = (
+        cumulative_percussion(t, rec[c].values, method="simpson").values for c in ("Fn", "Ft")
+    )
     return t, Pn, Pt
 
 

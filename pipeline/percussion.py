@@ -66,7 +66,7 @@ each one it is in, with the number that tripped it:
 - *noise*: white noise σ (the window's estimate) propagates into a percussion from the
   samples with the quadrature weights :math:`w_i`, :math:`\mathrm{sd}(P_f) = \sigma
   \sqrt{\sum_i w_i^2}` (≈ σ·Δt·√n); flagged when three of it exceed ``tol`` of the
-  percussion's scale (then more than 0.3 % of such records miss by more than ``tol``);
+  percussion's scale (unflagged, fewer than 0.3 % of records miss by ``tol`` from noise);
 - *coarse ADC*: a raw channel whose values lie on a grid of step q (an ADC's quantum,
   or a file's printed resolution) with q above :data:`MAX_ADC_STEP` of the channel's
   peak force and above the noise σ (noise of at least one step dithers the quantiser:
@@ -880,7 +880,8 @@ def resolution(
         with np.errstate(invalid="ignore", divide="ignore"):
             noise_err[c] = float(sigma * np.sqrt(np.sum(w * w)) / ref)
         peak = float(np.max(np.abs(f)))
-        step[c] = adc_step(record[c].values) if record is not None and c in record else 0.0
+        raw = channel(record, c)[1] if record is not None and c in record else ()
+        step[c] = adc_step(raw)
         adc_err[c] = step[c] / peak if peak > 0 else float("nan")
         dP, se = _baseline_left(record, window, c)
         base_err[c] = abs(dP) / ref
