@@ -34,7 +34,9 @@ import time
 from pathlib import Path
 
 import numpy as np
+import scipy
 
+import pipeline
 from benchmarks import _truth
 from pipeline import percussion as _perc
 from pipeline import smooth as _smooth
@@ -184,6 +186,8 @@ def run(out_dir: Path) -> dict:
             "python": platform.python_version(),
             "platform": platform.platform(),
             "numpy": np.__version__,
+            "scipy": scipy.__version__,
+            "pipeline": pipeline.__version__,
         },
         "results": rows,
         "ratios": _ratios(rows),

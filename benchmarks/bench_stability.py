@@ -50,7 +50,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+import scipy
 
+import pipeline
 from benchmarks import _truth
 from pipeline import analyse
 from pipeline._atomic import atomic_path, atomic_write_bytes
@@ -311,6 +313,8 @@ def run(out_dir: Path) -> dict:
             "python": platform.python_version(),
             "platform": platform.platform(),
             "numpy": np.__version__,
+            "scipy": scipy.__version__,
+            "pipeline": pipeline.__version__,
         },
         "maps": maps,
     }

@@ -36,7 +36,9 @@ import warnings
 from pathlib import Path
 
 import numpy as np
+import scipy
 
+import pipeline
 from benchmarks import _truth
 from pipeline import contact
 from pipeline import rigid as _rigid
@@ -257,6 +259,8 @@ def run(out_dir: Path) -> dict:
             "python": platform.python_version(),
             "platform": platform.platform(),
             "numpy": np.__version__,
+            "scipy": scipy.__version__,
+            "pipeline": pipeline.__version__,
         },
         "maps": maps,
     }
