@@ -44,7 +44,7 @@ from pipeline import contact
 from pipeline import rigid as _rigid
 from pipeline._atomic import atomic_path, atomic_write_bytes
 from pipeline._json import json_ready
-from pipeline.advise import advise, mbf_groups
+from pipeline.advice import advise, mbf_groups
 from pipeline.errors import PipelineWarning
 from pipeline.simulate import impact, impact_outcomes, tangential_history
 

@@ -14,7 +14,7 @@ __all__ = ["InputError", "Scene", "advise", "analyse", "__version__"]
 
 
 _SUBMODULES = {
-    "advise",
+    "advice",
     "analysis",
     "contact",
     "errors",
@@ -42,10 +42,7 @@ def __getattr__(name):
     if name == "analyse":
         return importlib.import_module(".analysis", __name__).analyse
     if name == "advise":
-        # the function, not its module (which has the same name; see pipeline/advise.py)
-        fn = importlib.import_module(".advise", __name__).advise
-        globals()["advise"] = fn
-        return fn
+        return importlib.import_module(".advice", __name__).advise
     if name in _SUBMODULES:
         return importlib.import_module(f".{name}", __name__)
     raise AttributeError(f"module 'pipeline' has no attribute {name!r}")

@@ -23,7 +23,7 @@ import pytest
 
 import pipeline
 from pipeline import Scene
-from pipeline.advise import LADDER, Advice, advise, mbf_groups
+from pipeline.advice import LADDER, Advice, advise, mbf_groups
 from pipeline.errors import InputError
 
 CHUNG_OOI_4 = dict(radius=2.5e-3, density=4000.0, E=380e9, nu=0.23, speed=3.9, mu=0.092, e=0.98)

@@ -1,6 +1,6 @@
 r"""Model no more than a scene needs: the cheapest model within a tolerance, before any data.
 
-The tangential ladder, cheapest first (API.md, "Choosing a model"):
+The tangential ladder, cheapest first:
 
 ``"rigid"``
     rigid bodies, Routh's construction with Coulomb friction and a coefficient of
@@ -57,8 +57,6 @@ Y. C. Chung, J. Y. Ooi, Granular Matter 13:643 (2011), doi:10.1007/s10035-011-02
 
 from __future__ import annotations
 
-import sys
-import types
 from dataclasses import dataclass
 
 import numpy as np
@@ -327,16 +325,3 @@ def _reason(scene, rung, worst, errors, tol, rig, psi1, chi) -> str:
         f"{where}: without tangential compliance {off[0]} is off by {off[1]:.2g} > tol {tol:g}; "
         "Mindlin's tangential compliance is needed"
     )
-
-
-class _CallableModule(types.ModuleType):
-    """This module calls :func:`advise`: ``pipeline.advise(scene)`` works even where the
-    import system has bound the name ``pipeline.advise`` to the module (it does so whenever
-    ``pipeline.advise`` is imported as a module, e.g. ``from pipeline.advise import Advice``).
-    """
-
-    def __call__(self, *args, **kwargs):
-        return advise(*args, **kwargs)
-
-
-sys.modules[__name__].__class__ = _CallableModule
