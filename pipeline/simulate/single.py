@@ -247,8 +247,8 @@ def _events(pb: _Problem, tangential, history, mode):
 
         def cap(tau, y):
             x, u, z = y[0], y[1], y[3]
-            if x <= 0:  # past separation: keep the sign, so a real crossing is found
-                return -1.0
+            if x <= 0:  # first contact: under the cap; past separation: keep the sign
+                return 1.0 if u > 0 else -1.0
             return pb.mu * pb.fs(x, u) - abs(_spring_ft(pb, history, x, z))
 
         cap.terminal = True
