@@ -20,6 +20,7 @@ from .damping import (
 )
 from .elastic import _f, hertz
 from .normal import (
+    _dashpot_factor,
     _hertz_dashpot_raw,
     _viscoelastic_raw,
     c_flores,
@@ -58,6 +59,11 @@ class NormalLaw:
     material : str — name and unit of that material constant
     cor : callable ``param -> e`` or None — the restitution a parameter actually gives
     e_range : (float, float) — the closure of the reachable range of e
+    damping : callable ``(delta, param, K, m_eff, v0) -> eta_n`` [N·s/m]
+        The normal dashpot coefficient at approach δ [m]: every law here is linear in the
+        approach rate, F = F_el(δ) + η_n(δ)·δ̇ before the no-adhesion clip. A tangential
+        dashpot of ratio x_γ,t (LAMMPS's convention, :mod:`pipeline.contact.tangential`)
+        has the coefficient x_γ,t·η_n(δ).
     """
 
     name: str
@@ -69,6 +75,27 @@ class NormalLaw:
     material: str = ""
     cor: Callable | None = None
     e_range: tuple[float, float] = (0.0, 1.0)
+    damping: Callable | None = None
+
+
+def _approach(delta):
+    return np.maximum(np.asarray(delta, dtype=float), 0.0)
+
+
+def _hc_damping(delta, c, K, m_eff, v0):
+    """Hunt–Crossley family: η_n = c·K·δ^{3/2}/v0."""
+    d = _approach(delta)
+    return _f(np.asarray(c) * np.asarray(K) * d * np.sqrt(d) / np.asarray(v0))
+
+
+def _no_damping(delta, param, K, m_eff, v0):
+    return _f(np.zeros_like(_approach(delta)))
+
+
+def _viscoelastic_damping(delta, gamma, K, m_eff, v0):
+    """Viscoelastic law: η_n = (3/2)·K·A·√δ with A = γ·(m*/K)^{2/5}·v0^{−1/5}."""
+    A = np.asarray(gamma) * (np.asarray(m_eff) / np.asarray(K)) ** 0.4 * np.asarray(v0) ** -0.2
+    return _f(1.5 * np.asarray(K) * A * np.sqrt(_approach(delta)))
 
 
 def _hc_force(delta, delta_dot, c, K, m_eff, v0):
@@ -97,6 +124,11 @@ def _dashpot_law(name, stiffness):
     def cor(zeta):
         return cor_hertz_dashpot(zeta, stiffness)
 
+    def damping(delta, zeta, K, m_eff, v0):
+        # η_n = 2ζ·√(m*·k(δ)), k = factor·K·√δ (tangent 3/2, secant 1)
+        k = _dashpot_factor(stiffness) * np.asarray(K) * np.sqrt(_approach(delta))
+        return _f(2.0 * np.asarray(zeta) * np.sqrt(np.asarray(m_eff) * k))
+
     kind = "tangent stiffness 2E*a" if stiffness == "tangent" else "secant stiffness (4/3)E*a"
     return NormalLaw(
         name,
@@ -108,6 +140,7 @@ def _dashpot_law(name, stiffness):
         material="zeta [-] (speed-independent damping ratio)",
         cor=cor,
         e_range=(0.0, 1.0),
+        damping=damping,
     )
 
 
@@ -136,6 +169,7 @@ def _hc_law(name, closed_form):
         material="alpha [s/m] (c = alpha*v0)",
         cor=cor_hunt_crossley_family,
         e_range=(0.0, 1.0),
+        damping=_hc_damping,
     )
 
 
@@ -150,6 +184,7 @@ NORMAL_LAWS: dict[str, NormalLaw] = {
         material="none",
         cor=lambda p: _f(np.ones_like(np.asarray(p, dtype=float))),
         e_range=(1.0, 1.0),
+        damping=_no_damping,
     ),
     "hunt_crossley": _hc_law("hunt_crossley", c_hunt_crossley),
     "lankarani_nikravesh": _hc_law("lankarani_nikravesh", c_lankarani_nikravesh),
@@ -166,6 +201,7 @@ NORMAL_LAWS: dict[str, NormalLaw] = {
         material="A [s] (material time of Kuwabara-Kono / Brilliantov)",
         cor=cor_kuwabara_kono,
         e_range=(0.0, 1.0),
+        damping=_viscoelastic_damping,
     ),
 }
 

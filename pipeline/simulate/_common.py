@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from .. import contact
@@ -31,6 +33,21 @@ def _check_models(tangential, history):
         raise InputError(f"unknown Mindlin history rule {history!r}; choose one of {HISTORY_RULES}")
 
 
+def _check_tangential_damping(value, tangential):
+    try:
+        xg = float(value)
+    except (TypeError, ValueError):
+        xg = math.nan
+    if isinstance(value, bool) or not (math.isfinite(xg) and xg >= 0):
+        raise InputError(f"tangential_damping must be a finite number ≥ 0; got {value!r}")
+    if xg and tangential != "mindlin":
+        raise InputError(
+            f"tangential_damping acts in parallel with the Mindlin spring; the {tangential!r} "
+            "model has none. Use tangential='mindlin' or tangential_damping=0"
+        )
+    return xg
+
+
 _law = contact._law  # name -> NormalLaw, InputError naming the choices
 
 
@@ -52,3 +69,49 @@ def _check_target(scene: Scene):
             "of mass lies, which the scene does not say. Give target_radius for a free "
             "sphere, or leave target_mass = inf for a fixed target"
         )
+
+
+#: dimensionless time of the first-contact analysis (δ ≈ v0·t there)
+_TAU_FIRST = 1e-8
+
+
+def _release_rate(sig, x, u, s, fn, fn_rate, k, eta, eta_rate, mu, lam, total):
+    """σ·d/dτ of the trial force a sticking Mindlin contact would have (spring + dashpot)
+    minus d/dτ(μ·fn), for a contact sliding on the cap in the direction σ: negative where it
+    leaves the cap and sticks (dimensionless, arrays or scalars; x > 0).
+
+    On the cap the spring holds σμ·fn − eta·s, the slip changes as s' = −λ·σμ·fn, and the
+    total rule's spring k(x)·ξ changes at fixed ξ by (k'/k)·kξ = (u/2x)·kξ.
+    """
+    rate = sig * k * s - mu * fn_rate + sig * eta_rate * s - eta * lam * mu * fn
+    if total:
+        rate = rate + 0.5 * u / x * (mu * fn - sig * eta * s)
+    return rate
+
+
+def _first_contact_mode(fn_of, eta_of, kt_coef, s0, mu, lam, total):
+    """How a Mindlin contact starts: 0 stick, +1 slide forward, −1 slide backward.
+
+    ``fn_of(x, u)`` and ``eta_of(x)`` give the dimensionless normal force and tangential
+    dashpot coefficient (vectorised or scalar); the rest as in :func:`_release_rate`.
+    Evaluated at τ = :data:`_TAU_FIRST` (x ≈ τ, u ≈ 1). The contact sticks if the trial
+    force (spring grown over the first instant + dashpot) is under the cap; otherwise it
+    slides forward unless it would leave that cap at once (release rate < 0), which happens
+    under the total rule when a dashpot growing faster than the spring at first contact
+    (Tsuji's δ^{1/4}) exceeds the cap alone (x_γ,t·s0 > μ): the stored displacement then
+    points backwards and grows like δ^{−1/4}, and the discrete update converges (dt → 0)
+    to sliding backwards, Ft = −μ·Fn, at first.
+    """
+    tau, h = _TAU_FIRST, 0.5 * _TAU_FIRST
+    fn = fn_of(tau, 1.0)
+    fn_rate = (fn_of(tau + h, 1.0) - fn_of(tau - h, 1.0)) / (2 * h)  # u − 1 = O(τ·fn)
+    eta = eta_of(tau)
+    eta_rate = (eta_of(tau + h) - eta_of(tau - h)) / (2 * h)
+    k = kt_coef * np.sqrt(tau)
+    spring = k * s0 * tau if total else 2.0 / 3.0 * k * s0 * tau
+    trial = spring + eta * s0
+    args = (tau, 1.0, s0, fn, fn_rate, k, eta, eta_rate, mu, lam, total)
+    forward = np.asarray(_release_rate(1.0, *args) >= 0)
+    backward = np.asarray(_release_rate(-1.0, *args) >= 0)
+    slide = np.where(forward | ~backward, 1, -1)
+    return np.where(trial < mu * fn, 0, slide)

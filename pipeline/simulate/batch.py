@@ -12,7 +12,15 @@ import numpy as np
 from .. import contact
 from ..errors import InputError, PipelineWarning
 from ..scene import Scene
-from ._common import _SELF_SIMILAR, _check_models, _check_target, _law, _param
+from ._common import (
+    _SELF_SIMILAR,
+    _check_models,
+    _check_tangential_damping,
+    _check_target,
+    _first_contact_mode,
+    _law,
+    _param,
+)
 
 __all__ = ["ImpactOutcomes", "TangentialHistory", "impact_outcomes", "tangential_history"]
 
@@ -123,53 +131,66 @@ class _MindlinRK4:
     """Tangential state (Pt, and ξ or Ft) of N scenes, advanced by RK4 (dimensionless).
 
     The Coulomb cap is applied inside the stages and the discrete history rule after each
-    step: for the total rule ξ is clipped to ±μFn/k_t (:func:`pipeline.contact.mindlin_total`
-    with zero increment), for the incremental rule Ft to ±μFn
-    (:func:`pipeline.contact.mindlin_incremental`); written out as clips here for speed.
+    step: where spring plus tangential dashpot exceed the cap, the spring is set so that
+    their sum is on it — for the total rule ξ = (±μFn − η_t·s)/k_t
+    (:func:`pipeline.contact.mindlin_total` with zero increment when η_t = 0), for the
+    incremental rule Ft_spring = ±μFn − η_t·s (:func:`pipeline.contact.mindlin_incremental`);
+    written out as clips here for speed. ``start`` (from :func:`._common._first_contact_mode`)
+    marks contacts that begin sliding backwards: their spring starts on the lower cap.
     """
 
-    def __init__(self, s0, lam, mu, ktc, history):
-        self.s0, self.lam, self.mu, self.ktc = s0, lam, mu, ktc
+    #: a spring state beyond any cap: the first step's clip and projection put it on the cap
+    _ON_LOWER_CAP = -1e300
+
+    def __init__(self, s0, lam, mu, ktc, history, xg=0.0, start=None):
+        self.s0, self.lam, self.mu, self.ktc, self.xg = s0, lam, mu, ktc, xg
         self.total = history == "total"
         n = s0.size
         self.p = np.zeros(n)
         self.z = np.zeros(n)
+        if start is not None:
+            self.z = np.where(np.asarray(start) < 0, self._ON_LOWER_CAP, 0.0)
         self.ft_min = np.zeros(n)
         self.ft_max = np.zeros(n)
 
-    def rhs(self, sq, fn, p, z):
+    def rhs(self, sq, fn, eta, p, z):
         cap = self.mu * fn
         s = self.s0 - self.lam * p
+        damp = self.xg * eta * s
         if self.total:
-            return np.clip(self.ktc * z * sq, -cap, cap), s
-        return np.clip(z, -cap, cap), self.ktc * sq * s
+            return np.clip(self.ktc * z * sq + damp, -cap, cap), s
+        return np.clip(z + damp, -cap, cap), self.ktc * sq * s
 
     def step(self, h, stages, end):
-        """``stages``: (√x, fn) at τ, τ+h/2 (twice, RK4 stages 2 and 3) and τ+h; ``end``: the
-        same at the end of the step (for the history rule)."""
+        """``stages``: (√x, fn, η) at τ, τ+h/2 (twice, RK4 stages 2 and 3) and τ+h, η the
+        normal dashpot coefficient (dimensionless); ``end``: the same at the end of the
+        step (for the history rule)."""
         p, z = self.p, self.z
-        (q1, f1), (q2, f2), (q3, f3), (q4, f4) = stages
-        a1, b1 = self.rhs(q1, f1, p, z)
-        a2, b2 = self.rhs(q2, f2, p + 0.5 * h * a1, z + 0.5 * h * b1)
-        a3, b3 = self.rhs(q3, f3, p + 0.5 * h * a2, z + 0.5 * h * b2)
-        a4, b4 = self.rhs(q4, f4, p + h * a3, z + h * b3)
+        (q1, f1, e1), (q2, f2, e2), (q3, f3, e3), (q4, f4, e4) = stages
+        a1, b1 = self.rhs(q1, f1, e1, p, z)
+        a2, b2 = self.rhs(q2, f2, e2, p + 0.5 * h * a1, z + 0.5 * h * b1)
+        a3, b3 = self.rhs(q3, f3, e3, p + 0.5 * h * a2, z + 0.5 * h * b2)
+        a4, b4 = self.rhs(q4, f4, e4, p + h * a3, z + h * b3)
         self.p = p + h / 6.0 * (a1 + 2.0 * (a2 + a3) + a4)
         z = z + h / 6.0 * (b1 + 2.0 * (b2 + b3) + b4)
-        qe, fe = end
+        qe, fe, ee = end
         cap = self.mu * fe
+        damp = self.xg * ee * (self.s0 - self.lam * self.p)
         if self.total:
             k = self.ktc * qe
             with np.errstate(divide="ignore", invalid="ignore"):
-                lim = np.where(k > 0, cap / k, 0.0)
-            self.z = np.clip(z, -lim, lim)
+                hi = np.where(k > 0, (cap - damp) / k, 0.0)
+                lo = np.where(k > 0, (-cap - damp) / k, 0.0)
+            self.z = np.clip(z, lo, hi)
         else:
-            self.z = np.clip(z, -cap, cap)
+            self.z = np.clip(z, -cap - damp, cap - damp)
         np.minimum(self.ft_min, a4, out=self.ft_min)
         np.maximum(self.ft_max, a4, out=self.ft_max)
 
-    def force(self, q, fn):
-        """Ft of the current state at √x = ``q``, fn (the state is already on the cap)."""
-        return self.ktc * q * self.z if self.total else self.z
+    def force(self, q, fn, eta):
+        """Ft of the current state at √x = ``q``, fn, η (the state is already on the cap)."""
+        damp = self.xg * eta * (self.s0 - self.lam * self.p)
+        return (self.ktc * q * self.z if self.total else self.z) + damp
 
 
 @dataclass(frozen=True)
@@ -188,7 +209,19 @@ class TangentialHistory:
 
 
 def tangential_history(
-    q, fn, h, s0, lam, mu, kt_coef, *, tangential="mindlin", history="total"
+    q,
+    fn,
+    h,
+    s0,
+    lam,
+    mu,
+    kt_coef,
+    *,
+    tangential="mindlin",
+    history="total",
+    eta=None,
+    tangential_damping=0.0,
+    start=None,
 ) -> TangentialHistory:
     """The tangential model of N impacts driven by given normal histories (dimensionless).
 
@@ -210,6 +243,16 @@ def tangential_history(
     kt_coef : array_like — k_t·δ_max²/(m*·v0²) per √x (k_t = 8·G*·a)
     tangential : {"mindlin", "coulomb", "none"}
     history : {"total", "incremental"}
+    eta : array_like, shape like ``q``, optional
+        The normal law's dashpot coefficient η_n(δ) over m*·v0/δ_max at the half steps
+        (:attr:`pipeline.contact.NormalLaw.damping`); needed with ``tangential_damping``.
+    tangential_damping : float or array_like
+        LAMMPS's x_γ,t [-]: tangential dashpot = x_γ,t·η_n(δ) (see :func:`impact`).
+    start : array_like of int, shape (N,), optional
+        How each contact starts: 0 stick, +1 slide forward, −1 slide backward, as
+        :func:`._common._first_contact_mode` finds from the law's behaviour as δ → 0 (only
+        −1 changes anything: the spring then starts on the lower cap). Default: the
+        discrete rule's own first step.
 
     Returns
     -------
@@ -223,9 +266,16 @@ def tangential_history(
         raise InputError("q and fn need the same shape, (2n + 1, N) half-step values")
     q2, f2 = (a.reshape(a.shape[0], -1) for a in (q, fn))
     n, N = (q2.shape[0] - 1) // 2, q2.shape[1]
-    s0, lam, mu, ktc = (
-        np.broadcast_to(np.asarray(a, dtype=float), (N,)) for a in (s0, lam, mu, kt_coef)
+    s0, lam, mu, ktc, xg = (
+        np.broadcast_to(np.asarray(a, dtype=float), (N,))
+        for a in (s0, lam, mu, kt_coef, tangential_damping)
     )
+    if eta is None:
+        if np.any(xg != 0):
+            raise InputError("tangential_damping needs the normal dashpot coefficient eta")
+        e2 = np.zeros_like(q2)
+    else:
+        e2 = np.asarray(eta, dtype=float).reshape(q2.shape)
     p = np.zeros((n + 1, N))
     ft = np.zeros((n + 1, N))
     if tangential == "coulomb":  # Routh: Pt = min(μ·Pn, m_t·s0) (PHYSICS.md §3), Pn by Simpson
@@ -235,12 +285,12 @@ def tangential_history(
         p[...] = np.minimum(mu * pn, s0 / lam)
         ft[...] = np.where(mu * pn < s0 / lam, mu * f2[::2], 0.0)
     elif tangential == "mindlin":
-        tan = _MindlinRK4(s0.copy(), lam, mu, ktc, history)
+        tan = _MindlinRK4(s0.copy(), lam, mu, ktc, history, xg, start)
         for k in range(n):
             i = 2 * k
-            mid = (q2[i + 1], f2[i + 1])
-            end = (q2[i + 2], f2[i + 2])
-            tan.step(h, ((q2[i], f2[i]), mid, mid, end), end)
+            mid = (q2[i + 1], f2[i + 1], e2[i + 1])
+            end = (q2[i + 2], f2[i + 2], e2[i + 2])
+            tan.step(h, ((q2[i], f2[i], e2[i]), mid, mid, end), end)
             p[k + 1] = tan.p
             ft[k + 1] = tan.force(*end)
     shape = (n + 1,) + q.shape[1:]
@@ -248,24 +298,32 @@ def tangential_history(
 
 
 def _batch_group(
-    law, elastic, param, K, m_eff, v0, dstar, s0, lam, mu, ktc, tangential, history, n_steps
+    law, elastic, param, K, m_eff, v0, dstar, s0, lam, mu, ktc, xg, tangential, history, n_steps
 ):
     """Fixed-step RK4 over all scenes of one normal law (dimensionless)."""
     N = s0.size
     TC = contact.HERTZ_TC_CONSTANT
     h = TC / n_steps
-    tan = _MindlinRK4(s0, lam, mu, ktc, history) if tangential == "mindlin" else None
+    total = history == "total"
+
+    def mindlin(fn_of, eta_t_of):  # eta_t_of: the TANGENTIAL dashpot coefficient x_γ,t·η_n
+        if tangential != "mindlin":
+            return None
+        start = _first_contact_mode(fn_of, eta_t_of, ktc, s0, mu, lam, total)
+        return _MindlinRK4(s0, lam, mu, ktc, history, xg, start)
+
     if elastic:
         # one universal normal solution for every scene (exact, contact.hertz_pulse)
         tau = np.arange(2 * n_steps + 1) * (h / 2)
         tau[-1] = TC
         pulse = contact.hertz_pulse(tau, _UNIT_HERTZ)
         qs, fs = np.sqrt(np.maximum(pulse["delta"], 0.0)), pulse["F"]
+        tan = mindlin(lambda x, u: 1.25 * x**1.5, lambda x: 0.0)
         if tan is not None:
             for k in range(n_steps):
-                mid = (qs[2 * k + 1], fs[2 * k + 1])
-                end = (qs[2 * k + 2], fs[2 * k + 2])
-                tan.step(h, ((qs[2 * k], fs[2 * k]), mid, mid, end), end)
+                mid = (qs[2 * k + 1], fs[2 * k + 1], 0.0)
+                end = (qs[2 * k + 2], fs[2 * k + 2], 0.0)
+                tan.step(h, ((qs[2 * k], fs[2 * k], 0.0), mid, mid, end), end)
         e_n = np.ones(N)
         tau_c = np.full(N, TC)
         f_max = np.full(N, 1.25)
@@ -295,6 +353,15 @@ def _batch_group(
         def q(x):
             return g(np.sqrt(np.maximum(x, 0.0)))
 
+        def eta_of(x):  # the normal dashpot coefficient over m*·v0/δ*, per scene
+            eta = law.damping(np.maximum(x, 0.0) * dn, prm, Kn, mn, vn) * dn / (mn * vn)
+            return g(np.where(x > 0, eta, 0.0))
+
+        tan = mindlin(
+            lambda x, u: g(fn_of(np.full(M, x), np.full(M, u))),
+            lambda x: xg * eta_of(np.full(M, x)),
+        )
+
         x = np.zeros(M)
         u = np.ones(M)
         tau_c = np.full(M, np.nan)
@@ -317,8 +384,9 @@ def _batch_group(
             un = u - h / 6.0 * (f1 + 2.0 * (f2 + f3) + f4)
             fnew = fn_of(xn, un)
             if tan is not None:
-                end = (q(xn), g(fnew))
-                tan.step(h, ((q(x), g(f1)), (q(xa), g(f2)), (q(xb), g(f3)), (q(xc), g(f4))), end)
+                end = (q(xn), g(fnew), eta_of(xn))
+                stages = ((x, f1), (xa, f2), (xb, f3), (xc, f4))
+                tan.step(h, tuple((q(xs), g(fs), eta_of(xs)) for xs, fs in stages), end)
             # separation within this step: δ crosses 0, or Fn reaches 0 while restituting
             sep = ~done & (k > 0) & (un < 0) & ((xn <= 0) | (fnew <= 0))
             if np.any(sep):
@@ -427,6 +495,7 @@ def impact_outcomes(
     alpha=None,
     param=None,
     target_kappa=None,
+    tangential_damping=0.0,
 ) -> ImpactOutcomes:
     """Outcomes of many oblique impacts at once (vectorised, no per-scene loop).
 
@@ -443,7 +512,7 @@ def impact_outcomes(
     n_steps : int
         RK4 steps per elastic contact duration (t_c = 2.943·t*); damped contacts, which
         last longer, take proportionally more.
-    alpha, param, target_kappa
+    alpha, param, target_kappa, tangential_damping
         As in :func:`impact`.
 
     Returns
@@ -479,6 +548,7 @@ def impact_outcomes(
     constant) come back as NaN with a :class:`~pipeline.errors.PipelineWarning`.
     """
     _check_models(tangential, history)
+    xg = _check_tangential_damping(tangential_damping, tangential)
     if int(n_steps) < 4:
         raise InputError("n_steps must be at least 4")
     n_steps = int(n_steps)
@@ -567,6 +637,7 @@ def impact_outcomes(
             lam[idx],
             mu[idx],
             ktc[idx],
+            xg,
             tangential,
             history,
             n_steps,

@@ -13,7 +13,17 @@ from .. import contact
 from ..errors import InputError
 from ..record import make_record
 from ..scene import Scene
-from ._common import _SELF_SIMILAR, _check_models, _check_target, _law, _param, default_normal
+from ._common import (
+    _SELF_SIMILAR,
+    _check_models,
+    _check_tangential_damping,
+    _check_target,
+    _first_contact_mode,
+    _law,
+    _param,
+    _release_rate,
+    default_normal,
+)
 
 if TYPE_CHECKING:
     import xarray
@@ -51,6 +61,7 @@ class _Problem:
     kappa2: float
     R2: float
     hc_c: float | None = None  # c of a Hertz / Hunt–Crossley-family law (fast scalar path)
+    xg: float = 0.0  # tangential dashpot / normal dashpot at the same overlap (LAMMPS x_γ,t)
 
     def fs(self, x, u):
         """Dimensionless normal force for scalars (float)."""
@@ -80,6 +91,32 @@ class _Problem:
     def kts(self, x):
         return self.kt_coef * math.sqrt(x) if x > 0 else 0.0
 
+    def etas(self, x):
+        """Tangential dashpot coefficient x_γ,t·η_n(δ) over m*·v0/δ*, for scalars."""
+        if self.xg == 0.0 or x <= 0:
+            return 0.0
+        if self.hc_c is not None:
+            return self.xg * self.kel * self.hc_c * x * math.sqrt(x)
+        eta = self.law.damping(x * self.dstar, self.param, self.K, self.m_eff, self.v0)
+        return self.xg * float(eta) * self.dstar / (self.m_eff * self.v0)
+
+    def etas_rate(self, x, u):
+        """d(etas)/dτ along the trajectory (central difference keeping x ± h·u > 0)."""
+        if self.xg == 0.0 or x <= 0:
+            return 0.0
+        h = 1e-7 * min(1.0, 0.5 * x / abs(u)) if u != 0 else 1e-7
+        return (self.etas(x + h * u) - self.etas(x - h * u)) / (2 * h)
+
+    def eta(self, x):
+        """Tangential dashpot coefficient (dimensionless) for arrays."""
+        x = np.asarray(x, dtype=float)
+        if self.xg == 0.0:
+            return np.zeros_like(x)
+        eta = self.law.damping(
+            np.maximum(x, 0.0) * self.dstar, self.param, self.K, self.m_eff, self.v0
+        )
+        return np.where(x > 0, self.xg * eta * self.dstar / (self.m_eff * self.v0), 0.0)
+
     def fn(self, x, u):
         """Dimensionless normal force, zero out of contact."""
         x = np.asarray(x, dtype=float)
@@ -92,7 +129,9 @@ class _Problem:
         return self.kt_coef * np.sqrt(np.maximum(x, 0.0))
 
 
-def _setup(scene: Scene, normal, alpha=None, param=None, target_kappa=None) -> _Problem:
+def _setup(
+    scene: Scene, normal, alpha=None, param=None, target_kappa=None, tangential_damping=0.0
+) -> _Problem:
     _check_target(scene)
     for name in Scene.field_names():
         v = getattr(scene, name)
@@ -156,6 +195,7 @@ def _setup(scene: Scene, normal, alpha=None, param=None, target_kappa=None) -> _
         kappa2=k2,
         R2=R2,
         hc_c=_hc_c(law, p),
+        xg=float(tangential_damping),
     )
 
 
@@ -189,10 +229,10 @@ def _make_rhs(pb: _Problem, tangential, history, mode):
         elif kind == "stick" and tangential == "mindlin":
             k = pb.kts(x)
             if history == "total":
-                ft = k * z
+                ft = k * z + pb.etas(x) * s
                 dz = s
             else:
-                ft = z
+                ft = z + pb.etas(x) * s
                 dz = k * s
         else:
             ft = 0.0
@@ -206,17 +246,24 @@ def _spring_ft(pb: _Problem, history, x, z):
     return pb.kts(x) * z if history == "total" else z
 
 
+def _stick_ft(pb: _Problem, history, y):
+    """Dimensionless Ft of a sticking Mindlin contact: spring + tangential dashpot (scalars)."""
+    x, p, z = y[0], y[2], y[3]
+    return _spring_ft(pb, history, x, z) + pb.etas(x) * (pb.s0 - pb.lam * p)
+
+
 def _ft_of(pb, tangential, history, mode, y):
     """Dimensionless Ft for states y (shape (6, n)) in a mode."""
     x, u, z = y[0], y[1], y[3]
     if mode[0] == "slide":
         return mode[1] * pb.mu * pb.fn(x, u)
     if mode[0] == "stick" and tangential == "mindlin":
-        return pb.kt(x) * z if history == "total" else z
+        spring = pb.kt(x) * z if history == "total" else z
+        return spring + pb.eta(x) * (pb.s0 - pb.lam * y[2])
     return np.zeros_like(x)
 
 
-def _events(pb: _Problem, tangential, history, mode):
+def _events(pb: _Problem, tangential, history, mode, tau0=0.0):
     def sep_x(tau, y):
         return y[0]
 
@@ -246,10 +293,12 @@ def _events(pb: _Problem, tangential, history, mode):
     elif tangential == "mindlin" and kind == "stick":
 
         def cap(tau, y):
-            x, u, z = y[0], y[1], y[3]
+            x, u = y[0], y[1]
             if x <= 0:  # first contact: under the cap; past separation: keep the sign
                 return 1.0 if u > 0 else -1.0
-            return pb.mu * pb.fs(x, u) - abs(_spring_ft(pb, history, x, z))
+            if tau <= tau0:  # a stick that begins on the cap (released from sliding)
+                return 1.0  # begins inside it: rounding must not hide the next crossing
+            return pb.mu * pb.fs(x, u) - abs(_stick_ft(pb, history, y))
 
         cap.terminal = True
         cap.direction = -1
@@ -258,20 +307,30 @@ def _events(pb: _Problem, tangential, history, mode):
         sig = mode[1]
 
         def release(tau, y):
-            x, u, p = y[0], y[1], y[2]
-            if x <= 0:
-                return 1.0
-            s = pb.s0 - pb.lam * p
-            fn = pb.fs(x, u)
-            rate = sig * pb.kts(x) * s - pb.mu * pb.fs_rate(x, u)
-            if history == "total":
-                rate += 0.5 * u / x * pb.mu * fn
-            return rate
+            return _release_rate_at(pb, history, sig, y[0], y[1], y[2]) if y[0] > 0 else 1.0
 
         release.terminal = True
         release.direction = -1
         evs.append(release)
     return evs
+
+
+def _release_rate_at(pb: _Problem, history, sig, x, u, p):
+    """Release rate (:func:`._common._release_rate`) of the scalar state (x > 0)."""
+    return _release_rate(
+        sig,
+        x,
+        u,
+        pb.s0 - pb.lam * p,
+        pb.fs(x, u),
+        pb.fs_rate(x, u),
+        pb.kts(x),
+        pb.etas(x),
+        pb.etas_rate(x, u),
+        pb.mu,
+        pb.lam,
+        history == "total",
+    )
 
 
 def _never(tau, y):
@@ -287,12 +346,9 @@ def _initial_mode(pb: _Problem, tangential, history):
         return ("free",) if tangential == "none" or pb.mu == 0 else ("stick",)
     if tangential == "coulomb":
         return ("slide", 1.0)
-    # Mindlin: does the spring force stay under the cap as t → 0+? (δ ≈ v0 t)
-    tau = 1e-8
-    fn = pb.fs(tau, 1.0)
-    k = pb.kts(tau)
-    trial = k * pb.s0 * tau if history == "total" else 2.0 / 3.0 * k * pb.s0 * tau
-    return ("stick",) if trial < pb.mu * fn else ("slide", 1.0)
+    # Mindlin: stick, or slide forward or backward (_first_contact_mode)
+    mode = _first_contact_mode(pb.fs, pb.etas, pb.kt_coef, pb.s0, pb.mu, pb.lam, history == "total")
+    return ("stick",) if mode == 0 else ("slide", float(mode))
 
 
 def _solve(pb: _Problem, tangential, history, rtol, atol, method):
@@ -308,7 +364,7 @@ def _solve(pb: _Problem, tangential, history, rtol, atol, method):
     tau_max = 1e4
     delta_max_tau = None
     for _ in range(_MAX_SEGMENTS):
-        evs = _events(pb, tangential, history, mode)
+        evs = _events(pb, tangential, history, mode, tau0)
         sol = integrate.solve_ivp(
             _make_rhs(pb, tangential, history, mode),
             (tau0, tau_max),
@@ -323,7 +379,7 @@ def _solve(pb: _Problem, tangential, history, rtol, atol, method):
             raise RuntimeError(f"impact integration failed: {sol.message}")
         if len(sol.t_events[2]):
             delta_max_tau = float(sol.t_events[2][0])
-        segments.append((sol.t[0], sol.t[-1], sol.sol, mode))
+        segments.append((sol.t[0], sol.t[-1], sol.sol, mode, sol.t))
         if sol.status == 0:
             raise RuntimeError("the bodies did not separate; check the normal law's parameter")
         t_end = sol.t[-1]
@@ -336,17 +392,35 @@ def _solve(pb: _Problem, tangential, history, rtol, atol, method):
         if tangential == "coulomb":
             mode = ("stick",)
         elif kind == "stick":  # spring reached the cap: slide in the direction of Ft
-            ft = _spring_ft(pb, history, y[0], y[3])
+            ft = _stick_ft(pb, history, y)
             mode = ("slide", 1.0 if ft >= 0 else -1.0)
-        else:  # leave the cap: stick with the spring exactly at the cap
+        else:  # leave the cap: stick with spring + dashpot exactly at the cap
             sig = mode[1]
             fn = pb.fs(y[0], y[1])
-            cap = sig * pb.mu * fn
-            y[3] = cap / pb.kts(y[0]) if history == "total" else cap
+            spring = sig * pb.mu * fn - pb.etas(y[0]) * (pb.s0 - pb.lam * y[2])
+            if history == "incremental":
+                y[3] = spring
+            else:
+                y[3] = spring / pb.kts(y[0]) if y[0] > 0 else 0.0
             mode = ("stick",)
     raise RuntimeError(
         f"more than {_MAX_SEGMENTS} stick/slide switches; loosen the tolerance or check the scene"
     )
+
+
+def _friction_ratio(pb: _Problem, tangential, history, segments):
+    """max |Ft|/(μ·Fn) over the accepted steps in contact (NaN without friction)."""
+    if tangential == "none" or pb.mu == 0:
+        return math.nan
+    worst = 0.0
+    for _t0, _t1, sol, mode, ts in segments:
+        y = sol(ts)
+        fn = pb.fn(y[0], y[1])
+        ft = _ft_of(pb, tangential, history, mode, y)
+        inside = (y[0] > 0) & (fn > 0)
+        if np.any(inside):
+            worst = max(worst, float(np.max(np.abs(ft[inside]) / (pb.mu * fn[inside]))))
+    return worst
 
 
 def impact(
@@ -363,6 +437,7 @@ def impact(
     alpha=None,
     param=None,
     target_kappa=None,
+    tangential_damping=0.0,
 ) -> xarray.Dataset:
     """Simulate one oblique impact and return its dense force record.
 
@@ -397,6 +472,14 @@ def impact(
         The law's damping parameter itself (bypasses calibration).
     target_kappa : float, optional
         I/(m·R²) of a free second sphere (default: the ball's ``kappa``).
+    tangential_damping : float
+        LAMMPS's x_γ,t [-] (≥ 0, default 0): a tangential dashpot whose coefficient is this
+        multiple of the normal law's dashpot coefficient η_n(δ) at the same overlap
+        (:attr:`pipeline.contact.NormalLaw.damping`), acting on the slip in parallel with
+        the Mindlin spring; spring plus dashpot are capped together at μ·Fn, as in LAMMPS
+        ``tangential mindlin`` (:mod:`pipeline.contact.tangential`, where YADE's
+        convention is given beside it). Only with ``tangential="mindlin"``; zero for the
+        elastic ``"hertz"`` law, which has no normal dashpot.
 
     Returns
     -------
@@ -417,7 +500,9 @@ def impact(
         :func:`pipeline.contact.mindlin_total`), ``Pn_final``, ``Pt_final`` [N·s],
         ``damping_param``, ``damping_param_name``, ``normal_model``,
         ``tangential_model``, ``history_rule``, ``tangential_axis_sign``,
-        ``stick_slip_segments``, the solver settings and the scene fields.
+        ``stick_slip_segments``, ``tangential_damping``, ``friction_ratio_max`` (the largest
+        |Ft|/(μ·Fn) over the solver's accepted steps in contact: ≤ 1 up to rounding, Coulomb's
+        law holds), the solver settings and the scene fields.
 
     Raises
     ------
@@ -435,9 +520,11 @@ def impact(
     if normal is None:
         scene.require("e", why="choosing the default normal law")
     normal_name = default_normal(scene.e) if normal is None else normal
-    pb = _setup(scene, normal_name, alpha, param, target_kappa)
+    xg = _check_tangential_damping(tangential_damping, tangential)
+    pb = _setup(scene, normal_name, alpha, param, target_kappa, xg)
     atol = rtol if atol is None else atol
     segments, y_end, tau_dmax = _solve(pb, tangential, history, rtol, atol, method)
+    friction_ratio = _friction_ratio(pb, tangential, history, segments)
     tau_c = float(segments[-1][1])
 
     # ---- sample the dense solution
@@ -447,7 +534,7 @@ def impact(
     FT = np.empty(n)
     bounds = np.array([seg[1] for seg in segments])
     which = np.minimum(np.searchsorted(bounds, tau_s, side="left"), len(segments) - 1)
-    for k, (_t0, _t1, sol, mode) in enumerate(segments):
+    for k, (_t0, _t1, sol, mode, _ts) in enumerate(segments):
         sel = which == k
         if np.any(sel):
             Y[:, sel] = sol(tau_s[sel])
@@ -514,9 +601,10 @@ def impact(
     }
     if tangential == "mindlin":
         kt = pb.kt(Y[0])
+        spring = FT - pb.eta(Y[0]) * (pb.s0 - pb.lam * Y[2])
         with np.errstate(divide="ignore", invalid="ignore"):
-            xi = np.where(kt > 0, FT / np.where(kt > 0, kt, 1.0), 0.0) * pb.dstar
-        extra["xi"] = (xi, "m", "elastic tangential displacement Ft/k_t")
+            xi = np.where(kt > 0, spring / np.where(kt > 0, kt, 1.0), 0.0) * pb.dstar
+        extra["xi"] = (xi, "m", "elastic tangential displacement (Ft - dashpot)/k_t")
     if pad > 0:
         dt = t[1] - t[0]
         npad = int(math.ceil(pad * t[-1] / dt))
@@ -579,6 +667,8 @@ def impact(
         "atol": float(atol),
         "method": method,
         "stick_slip_segments": len(segments),
+        "tangential_damping": xg,
+        "friction_ratio_max": friction_ratio,
     }
     if target_kappa is not None:
         attrs["target_kappa"] = float(target_kappa)
