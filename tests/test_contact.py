@@ -572,3 +572,32 @@ def test_mindlin_to_hertz_tangent_stiffness_ratio_like_materials(nu):
     a = contact.contact_radius(delta, s.R_eff)
     assert a == pytest.approx(math.sqrt(delta * R1 * R2 / (R1 + R2)), rel=1e-14)
     assert kn == pytest.approx(2 * s.E_eff * a, rel=1e-12)
+
+
+@pytest.mark.parametrize("name", sorted(contact.NORMAL_LAWS))
+def test_normal_damping_coefficient_is_the_rate_term_of_the_law(name):
+    """NormalLaw.damping is η_n(δ) in F = F_el(δ) + η_n(δ)·δ̇ (before the no-adhesion clip),
+    written here from each paper's law: Hunt–Crossley η = c·K·δ^{3/2}/v0, the Hertz dashpot
+    η = 2ζ√(m*·k) with k = (3/2)K√δ (tangent) or K√δ (secant), the viscoelastic law
+    η = (3/2)·K·A·√δ with A = γ·(m*/K)^{2/5}·v0^{−1/5}; zero for elastic Hertz. The
+    tangential dashpot of LAMMPS's x_γ,t is x_γ,t times this coefficient."""
+    K, m, v0 = 2.7e10, 2.6e-4, 3.9
+    d = np.array([1e-8, 1e-6, 6e-6])
+    law = contact.NORMAL_LAWS[name]
+    p = 0.0 if name == "hertz" else float(law.calibrate(0.6))
+    expected = {
+        "hertz": 0.0 * d,
+        "hunt_crossley": p * K * d**1.5 / v0,
+        "lankarani_nikravesh": p * K * d**1.5 / v0,
+        "flores": p * K * d**1.5 / v0,
+        "hertz_dashpot": 2 * p * np.sqrt(m * 1.5 * K * np.sqrt(d)),
+        "hertz_dashpot_secant": 2 * p * np.sqrt(m * K * np.sqrt(d)),
+        "viscoelastic": 1.5 * K * p * (m / K) ** 0.4 * v0**-0.2 * np.sqrt(d),
+    }[name]
+    eta = law.damping(d, p, K, m, v0)
+    np.testing.assert_allclose(eta, expected, rtol=1e-14, atol=0.0)
+    # and it is the δ̇-coefficient of the registered force where the force is positive
+    dd = 0.05 * v0
+    F1 = law.force(d, dd, p, K, m, v0)
+    F0 = law.force(d, 0.0, p, K, m, v0)
+    np.testing.assert_allclose((F1 - F0) / dd, expected, rtol=1e-9, atol=1e-12 * K * 1e-9)

@@ -16,6 +16,7 @@ from scipy.integrate import trapezoid
 from pipeline import InputError, Scene, contact
 from pipeline.errors import PipelineWarning
 from pipeline.simulate import impact, impact_outcomes
+from pipeline.simulate._common import _SELF_SIMILAR
 
 
 def glass_pair(speed=20.0):
@@ -633,3 +634,119 @@ def test_tangential_history_coulomb_is_routh_broken_line():
     # μ = 0.05 slides throughout (Pt_f = 0.1 < s0/λ = 1/7), μ = 0.3 sticks (Pt_f = s0/λ)
     assert th.p[-1, 0] == pytest.approx(0.1, abs=1e-7)
     assert th.p[-1, 1] == pytest.approx(0.5 / 3.5, abs=1e-12)
+
+
+# ------------------------------------------- every law, both paths, tangential damping
+SWEEP_ANGLES = np.append(np.arange(1.0, 90.0, 6.0), 89.0)  # 1°, 7°, …, 85°, 89°
+
+
+@pytest.mark.parametrize("history", ["total", "incremental"])
+@pytest.mark.parametrize(
+    "law, e, damping",
+    [("hertz", 1.0, 0.0)] + [(law, 0.7, xg) for law in DAMPED_LAWS for xg in (0.0, 1.0)],
+)
+def test_every_law_both_paths_agree_obey_coulomb_and_reach_the_rigid_limit(
+    law, e, damping, history
+):
+    """Chung & Ooi (2011) test 4 scene (doi:10.1007/s10035-011-0277-0), angles 1–89°.
+
+    (i) impact() and impact_outcomes() agree: the batch path's stated error at
+    n_steps = 400 is |Δe_t| < 1e-4 for the laws not smooth at first contact and < 2e-5 for
+    the others (impact_outcomes docstring); both are checked at 2e-4. (ii) Coulomb's law
+    holds at every accepted step of both paths: |Ft| ≤ μ·Fn up to rounding (1e-9).
+    (iii) Where a rigid ball slides throughout (tan θ ≥ 3.5·μ·(1 + e), PHYSICS.md §3) with a
+    wide margin (θ ≥ 45°, tan θ > 3.5·μ·(1+e)·2.2), a contact whose force stays positive
+    until δ = 0 (Hertz, Hunt–Crossley family) slides throughout too, and e_t = 1 −
+    μ(1 + e_n)/tan θ (Routh) to 1e-6. The laws that let go at δ > 0 (dashpot,
+    viscoelastic) leave the cap as Fn falls to zero before δ does, and with a tangential
+    dashpot the Tsuji-type laws start by sliding backwards (δ^{1/4} at first contact): they
+    lie above Routh by up to 6e-3 at 45° here, falling towards grazing incidence, 1e-4 at
+    89°. (The viscoelastic law was 0.37 below Routh at 45° before the first-contact event
+    was fixed, and broke Coulomb's law there: Pt/Pn = 0.28 > μ.)"""
+    sc = al_oxide(angle=SWEEP_ANGLES, e=e)
+    batch = impact_outcomes(sc, normal=law, history=history, tangential_damping=damping)
+    assert np.all(batch.friction_ratio_max <= 1.0 + 1e-9), (law, history)
+    for i, a in enumerate(SWEEP_ANGLES):
+        ref = impact(
+            sc.replace(angle_deg=a),
+            normal=law,
+            history=history,
+            tangential_damping=damping,
+            samples=51,
+        ).attrs
+        assert ref["friction_ratio_max"] <= 1.0 + 1e-9, (law, a)
+        assert batch.e_t[i] == pytest.approx(ref["e_t"], abs=2e-4), (law, a)
+        if a >= 45.0:
+            routh = 1.0 - sc.mu * (1.0 + ref["e_n"]) / math.tan(math.radians(a))
+            smooth_end = law == "hertz" or law in _SELF_SIMILAR
+            tol = 1e-6 if smooth_end else (1e-2 if a < 89.0 else 1e-4)
+            assert ref["e_t"] == pytest.approx(routh, abs=tol), (law, a)
+            assert ref["e_t"] >= routh - 1e-6  # never more friction than Coulomb allows
+
+
+def test_tangential_damping_recovers_the_damped_dem_reference_at_small_angles():
+    """Issue 9: at 1–4° of Chung & Ooi's test 4 an undamped Mindlin contact rebounds with
+    e_t = 1.0033 (the spring returns its energy with a phase that speeds the ball up),
+    where a damped Mindlin contact (Tsuji dashpot, x_γ,t = 1, as LAMMPS runs it) gives
+    0.9846 (LAMMPS 29 Sep 2021, dt 1e-9 s: 0.98451 at 1°, 0.98452 at 3°, measured with
+    pipeline.simulate.lammps; the LAMMPS comparison over all angles is the next test)."""
+    for a in (1.0, 3.0):
+        sc = al_oxide(angle=a, e=0.98)
+        plain = impact(sc, normal="hertz_dashpot_secant", samples=51).attrs["e_t"]
+        damped = impact(
+            sc, normal="hertz_dashpot_secant", tangential_damping=1.0, samples=51
+        ).attrs["e_t"]
+        assert plain == pytest.approx(1.0033, abs=1e-4)
+        assert damped == pytest.approx(0.9845, abs=1e-4)
+
+
+def _lammps_version():
+    from pipeline.simulate.lammps import lammps_version
+
+    return lammps_version()
+
+
+@pytest.mark.skipif(_lammps_version() is None, reason="LAMMPS (lmp) is not installed")
+def test_tangential_damping_matches_lammps_at_every_angle():
+    """Chung & Ooi test 4 (R = 2.5 mm alumina on a rigid wall, 3.9 m/s, μ = 0.092), a
+    Tsuji-type normal dashpot tuned to e_n = 0.98 (LAMMPS ``damping tsuji`` with its input
+    restitution chosen so that its α equals ours), Mindlin total rule, x_γ,t = 1:
+    e_t of impact() matches a converged LAMMPS run (dt = 1e-9 s) within 1e-3 at every
+    angle 1–89° (measured: 1.3e-4; 6.4e-5 at dt = 5e-10 s), e_n within 1e-5.
+
+    Converged means in the first-contact overlap too: where the tangential dashpot alone
+    exceeds the cap at first contact (x_γ,t·tan θ > μ: θ > 5.3°), the total rule stores a
+    first displacement ∝ (first overlap)^{−1/4}. With LAMMPS's default start the first
+    overlap is a fraction of v_n0·dt and the run at 6° is 2.8e-3 off ours however small dt
+    is made in practice (dt 1e-9 … 1e-12 s: 0.87644, 0.87631, 0.87615, 0.87520 → ours
+    0.87362); with a first overlap of 1e-14 m at the same dt it agrees (checked here)."""
+    from pipeline.simulate.lammps import run_lammps
+
+    angles = np.arange(1.0, 90.0)
+    scenes = [al_oxide(angle=a, e=0.98) for a in angles]
+    lmp = run_lammps(scenes, dt=1e-9, tangential_damping=1.0, first_overlap=1e-14)
+    ours = [
+        impact(s, normal="hertz_dashpot_secant", tangential_damping=1.0, samples=51).attrs
+        for s in scenes
+    ]
+    e_t = np.array([a["e_t"] for a in ours])
+    e_n = np.array([a["e_n"] for a in ours])
+    assert np.max(np.abs(e_t - lmp.e_t)) <= 1e-3
+    assert np.max(np.abs(e_n - lmp.e_n)) <= 1e-5
+    # the default start: 6° is off by more than the tolerance at the same dt
+    lmp6 = run_lammps([scenes[5]], dt=1e-9, tangential_damping=1.0)
+    assert abs(lmp6.e_t[0] - e_t[5]) > 2e-3
+
+
+def test_tangential_damping_is_checked():
+    sc = al_oxide(angle=20.0, e=0.9)
+    for bad in (-1.0, math.nan, "1", True):
+        with pytest.raises(InputError, match="tangential_damping must be a finite number ≥ 0"):
+            impact(sc, tangential_damping=bad)
+    with pytest.raises(InputError, match="the 'coulomb' model has none"):
+        impact_outcomes(sc, tangential="coulomb", tangential_damping=0.5)
+    from pipeline.simulate import tangential_history
+
+    q = np.zeros((5, 1))
+    with pytest.raises(InputError, match="needs the normal dashpot coefficient eta"):
+        tangential_history(q, q, 0.1, 0.1, 3.5, 0.1, 1.0, tangential_damping=1.0)

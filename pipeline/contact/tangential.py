@@ -4,6 +4,25 @@ r"""Tangential contact: Mindlin's no-slip stiffness with a Coulomb cap and a his
 keep different histories: the total displacement (LAMMPS ``mindlin``, LIGGGHTS
 ``tangential history``: :func:`mindlin_total`) or the force, incremented
 (YADE ``MindlinPhys``, LAMMPS ``mindlin/force``: :func:`mindlin_incremental`).
+
+Tangential damping. A dashpot on the slip s acts in parallel with the spring; the codes
+scale it differently:
+
+- LAMMPS (``pair granular`` / ``fix wall/gran granular ... tangential mindlin k_t x_γ,t μ``):
+  η_t = x_γ,t·η_n, the normal law's dashpot coefficient at the same overlap
+  (:attr:`pipeline.contact.NormalLaw.damping`), so F_t = k_t·ξ + x_γ,t·η_n(δ)·s, and
+  spring plus dashpot together are capped at μ·|F_n| (F_n including its own dashpot);
+  on the cap the stored displacement is reset so that their sum is exactly on it. This
+  is what ``pipeline.simulate`` implements (``tangential_damping=`` x_γ,t).
+- YADE (``Law2_ScGeom_MindlinPhys_Mindlin``, linear damping ``betan``, ``betas``):
+  c_s = 2·β_s·√(m*·k_s) with the current tangential stiffness k_s = 8·G*·a, i.e. a fraction
+  β_s of the tangential spring's critical damping (and c_n = 2·β_n·√(m*·k_n),
+  k_n = 2·E*·a); the Coulomb cap applies to the spring force alone and the dashpot is
+  dropped while the contact slides. With a Tsuji-type normal dashpot (YADE's ``en``/``es``
+  inputs, its ``alpha``) the same coefficient is used for both directions, c_s = c_n,
+  which is LAMMPS's x_γ,t = 1 (up to YADE's cap on the spring alone). A linear YADE
+  damping maps to x_γ,t = (β_s/β_n)·√(k_s/k_n) = (β_s/β_n)·√(4·G*/E*) on a tangent-stiffness
+  normal dashpot, again up to where the cap is applied.
 """
 
 from __future__ import annotations

@@ -34,11 +34,9 @@ def _check_models(tangential, history):
 
 
 def _check_tangential_damping(value, tangential):
-    try:
-        xg = float(value)
-    except (TypeError, ValueError):
-        xg = math.nan
-    if isinstance(value, bool) or not (math.isfinite(xg) and xg >= 0):
+    number = isinstance(value, int | float | np.number) and not isinstance(value, bool)
+    xg = float(value) if number else math.nan
+    if not (math.isfinite(xg) and xg >= 0):
         raise InputError(f"tangential_damping must be a finite number ≥ 0; got {value!r}")
     if xg and tangential != "mindlin":
         raise InputError(

@@ -39,6 +39,8 @@ class ImpactOutcomes:
     delta_max : maximum approach [m]
     Pn_final, Pt_final : normal and tangential percussion at separation [N·s]
     Ft_reverses : bool — the tangential force changed sign during contact
+    friction_ratio_max : largest |Ft|/(μ·Fn) at the step ends in contact (Mindlin; NaN for
+        the other models): ≤ 1 up to rounding where Coulomb's law holds
     normal : law name per scene; tangential, history : model names; n_steps : RK4 steps
     per elastic contact duration
     """
@@ -52,6 +54,7 @@ class ImpactOutcomes:
     Pn_final: np.ndarray
     Pt_final: np.ndarray
     Ft_reverses: np.ndarray
+    friction_ratio_max: np.ndarray
     normal: np.ndarray
     tangential: str
     history: str
@@ -67,6 +70,7 @@ class ImpactOutcomes:
         "Pn_final": "N s",
         "Pt_final": "N s",
         "Ft_reverses": "1",
+        "friction_ratio_max": "1",
     }
 
     def to_dataset(self):
@@ -152,6 +156,7 @@ class _MindlinRK4:
             self.z = np.where(np.asarray(start) < 0, self._ON_LOWER_CAP, 0.0)
         self.ft_min = np.zeros(n)
         self.ft_max = np.zeros(n)
+        self.ratio_max = np.zeros(n)  # max |Ft|/(μ·Fn) at the step ends in contact
 
     def rhs(self, sq, fn, eta, p, z):
         cap = self.mu * fn
@@ -186,6 +191,9 @@ class _MindlinRK4:
             self.z = np.clip(z, -cap - damp, cap - damp)
         np.minimum(self.ft_min, a4, out=self.ft_min)
         np.maximum(self.ft_max, a4, out=self.ft_max)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ratio = np.abs(self.force(qe, fe, ee)) / cap
+        np.maximum(self.ratio_max, np.where(cap > 0, ratio, 0.0), out=self.ratio_max)
 
     def force(self, q, fn, eta):
         """Ft of the current state at √x = ``q``, fn, η (the state is already on the cap)."""
@@ -422,6 +430,7 @@ def _batch_group(
         else:
             raise RuntimeError("impact_outcomes: some bodies did not separate")
         e_n, tau_c, f_max, x_max = g(-u), g(tau_c), g(f_max), g(x_max)
+    ratio = np.full(N, np.nan)
     if tangential == "coulomb":
         p = np.minimum(mu * (1.0 + e_n), s0 / lam)  # Routh's broken line (PHYSICS.md §3)
         reverses = np.zeros(N, dtype=bool)
@@ -432,6 +441,7 @@ def _batch_group(
         p = tan.p
         tiny = 1e-9 * np.maximum(mu, 1e-12)
         reverses = (tan.ft_min < -tiny) & (tan.ft_max > tiny)
+        ratio = np.where(mu > 0, tan.ratio_max, np.nan)
     return {
         "e_n": e_n,
         "p": p,
@@ -439,6 +449,7 @@ def _batch_group(
         "f_max": f_max,
         "x_max": x_max,
         "reverses": reverses,
+        "ratio": ratio,
     }
 
 
@@ -606,6 +617,7 @@ def impact_outcomes(
         raise InputError("the elastic 'hertz' law cannot give e < 1; choose a damped law")
     out = {k: np.empty(e.size) for k in ("e_n", "p", "tau_c", "f_max", "x_max")}
     out["reverses"] = np.zeros(e.size, dtype=bool)
+    out["ratio"] = np.full(e.size, np.nan)
     for name in sorted(set(names)):
         law = _law(name)
         idx = np.nonzero(names == name)[0]
@@ -643,7 +655,7 @@ def impact_outcomes(
             n_steps,
         )
         for k in out:
-            out[k][idx] = res["reverses" if k == "reverses" else k]
+            out[k][idx] = res[k]
     # an explicit fixed step cannot follow a contact whose damping is too stiff for it:
     # such outcomes are unphysical (e_n outside [0, 1], non-finite) — flag, never return them
     bad = ~np.isfinite(out["e_n"]) | (out["e_n"] > 1 + 1e-6) | (out["e_n"] < 0)
@@ -678,6 +690,7 @@ def impact_outcomes(
         Pn_final=r((1 + out["e_n"]) * m_eff * v0),
         Pt_final=r(Pt),
         Ft_reverses=r(out["reverses"]),
+        friction_ratio_max=r(out["ratio"]),
         normal=r(names),
         tangential=tangential,
         history=history,
