@@ -113,3 +113,14 @@ def _first_contact_mode(fn_of, eta_of, kt_coef, s0, mu, lam, total):
     backward = np.asarray(_release_rate(-1.0, *args) >= 0)
     slide = np.where(forward | ~backward, 1, -1)
     return np.where(trial < mu * fn, 0, slide)
+
+
+def _unique(a, axis=None):
+    """``np.unique(a, return_inverse=True, axis=axis)`` without its sort when every entry
+    (row, for axis=0) is the same — the usual case of one material and one e, where the
+    sort would cost more than the whole tabulated batch."""
+    a = np.asarray(a)
+    if a.shape[0] and np.all(a == a[:1]):
+        return a[:1], np.zeros(a.shape[0], dtype=np.intp)
+    uniq, inv = np.unique(a, return_inverse=True, axis=axis)
+    return uniq, inv.reshape(-1)
