@@ -291,9 +291,11 @@ def tabulated(law, param, s0, lam, mu, ktc, xg, history):
     Parameters as in the batch path (arrays over the scenes; ``xg`` scalar). Returns
     ``found`` (bool per scene) and, for the scenes found, the batch path's dimensionless
     results (``e_n``, ``p`` = Pt/(m*·v0), ``tau_c``, ``f_max``, ``x_max``, ``reverses``,
-    ``ratio``). A table is keyed by (param, χ = λ·k_t coefficient, ζ_t = λ·x_γ,t); scenes
-    without friction or initial slip, or whose key is shared by no other scene... are all
-    looked up the same way, one table per distinct key.
+    ``ratio``). One table per distinct key (param, χ = λ·k_t coefficient, ζ_t = λ·x_γ,t);
+    not found: scenes without friction or initial slip, ψ outside a table or in its
+    holes, and every scene when the damping parameter varies from scene to scene (a
+    material constant at several speeds: a table per scene would cost more than
+    integrating them).
     """
     param, s0, lam, mu, ktc = (np.asarray(a, dtype=float) for a in (param, s0, lam, mu, ktc))
     n = s0.size
@@ -308,6 +310,8 @@ def tabulated(law, param, s0, lam, mu, ktc, xg, history):
     zeta = _round(lam * xg)
     param = _round(param)
     usable = np.isfinite(psi) & (psi > 0)
+    if _unique(param)[0].size > 1:  # a damping that varies by scene (α at several speeds)
+        usable[:] = False
     keys = np.stack([param, chi, zeta], axis=1)
     uniq, inv = _unique(keys[usable], axis=0)
     where = np.nonzero(usable)[0]
