@@ -13,7 +13,6 @@ from __future__ import annotations
 import functools
 
 import numpy as np
-from scipy import special
 
 from ..errors import InputError
 from .elastic import _f
@@ -102,6 +101,8 @@ def _hc_cor(c):
     psi = np.where(cp < 0.1, cp * cp * rhs * rhs, cp - np.log1p(cp))  # ψ(c) = c − ln(1+c)
     # Lambert-W start: 1 − x = −W0(−exp(−1−ψ)), x = c·e (exact, ill-conditioned at ψ → 0)
     with np.errstate(under="ignore"):
+        from scipy import special  # loaded on first use
+
         w = special.lambertw(-np.exp(-1.0 - psi)).real
     x0 = np.clip(1.0 + w, 0.0, 1.0)
     cs = np.minimum(cp, 1e-3)

@@ -24,7 +24,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import special
 
 from ..errors import InputError
 from ..scene import Scene
@@ -40,8 +39,10 @@ __all__ = [
 ]
 
 
-#: t_c·v0/δ_max for an elastic Hertz impact: 0.8·B(2/5, 1/2) = 2.9432756...
-HERTZ_TC_CONSTANT = 0.8 * special.beta(0.4, 0.5)
+#: t_c·v0/δ_max for an elastic Hertz impact: 0.8·B(2/5, 1/2) = 2.94327518... (the value of
+#: ``0.8 * scipy.special.beta(0.4, 0.5)`` written out, so that importing contact does not
+#: load scipy.special)
+HERTZ_TC_CONSTANT = 2.9432751843247047
 
 
 # --------------------------------------------------------------------------- Hertz
@@ -167,6 +168,8 @@ def hertz_pulse(t, impact: HertzImpact):
     half = impact.t_c / 2.0
     inside = (t >= 0) & (t <= impact.t_c)
     s = np.clip(np.where(t <= half, t, impact.t_c - t) / half, 0.0, 1.0)
+    from scipy import special  # loaded on first use: importing contact stays light
+
     u = special.betaincinv(0.4, 0.5, s)
     sign = np.where(t <= half, 1.0, -1.0)
     delta = np.where(inside, impact.delta_max * u**0.4, 0.0)

@@ -7,11 +7,9 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
-from scipy import integrate, optimize
 
 from .. import contact
 from ..errors import InputError
-from ..record import make_record
 from ..scene import Scene
 from ._common import (
     _SELF_SIMILAR,
@@ -352,6 +350,8 @@ def _initial_mode(pb: _Problem, tangential, history):
 
 
 def _solve(pb: _Problem, tangential, history, rtol, atol, method):
+    from scipy.integrate import solve_ivp  # loaded on first use
+
     ps = max(pb.mu * 2.0, pb.s0 / pb.lam, 1e-3)
     zs = ps if history == "incremental" else max(pb.mu, 1e-3)
     scale = np.array([1.0, 1.0, ps, zs, 1.0, max(1.0, ps * pb.s0)])
@@ -365,7 +365,7 @@ def _solve(pb: _Problem, tangential, history, rtol, atol, method):
     delta_max_tau = None
     for _ in range(_MAX_SEGMENTS):
         evs = _events(pb, tangential, history, mode, tau0)
-        sol = integrate.solve_ivp(
+        sol = solve_ivp(
             _make_rhs(pb, tangential, history, mode),
             (tau0, tau_max),
             y,
@@ -544,6 +544,8 @@ def impact(
     FN[0] = pb.fn(0.0, 1.0)
     FT[-1] = _ft_of(pb, tangential, history, segments[-1][3], y_end[:, None])[0]
 
+    from scipy.optimize import minimize_scalar  # loaded on first use
+
     # ---- refine F_max and δ_max on the dense output
     def f_at(tau):
         k = min(int(np.searchsorted(bounds, tau, side="left")), len(segments) - 1)
@@ -552,7 +554,7 @@ def impact(
 
     i = int(np.argmax(FN))
     lo, hi_ = tau_s[max(i - 1, 0)], tau_s[min(i + 1, n - 1)]
-    res = optimize.minimize_scalar(
+    res = minimize_scalar(
         lambda t: -f_at(t), bounds=(lo, hi_), method="bounded", options={"xatol": 1e-12 * tau_c}
     )
     fmax = max(-res.fun, float(FN[i]))
@@ -675,4 +677,6 @@ def impact(
     if alpha is not None:
         attrs["alpha"] = float(alpha)
     attrs.update(scene.to_dict())
+    from ..record import make_record  # xarray: loaded on first use
+
     return make_record(t, {"Fn": fn_N, "Ft": ft_N}, attrs=attrs, extra=extra)
