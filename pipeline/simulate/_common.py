@@ -46,6 +46,14 @@ def _check_tangential_damping(value, tangential):
     return xg
 
 
+def _check_kt_scale(value):
+    number = isinstance(value, int | float | np.number) and not isinstance(value, bool)
+    k = float(value) if number else math.nan
+    if not (math.isfinite(k) and k > 0):
+        raise InputError(f"kt_scale must be a finite number > 0; got {value!r}")
+    return k
+
+
 _law = contact._law  # name -> NormalLaw, InputError naming the choices
 
 

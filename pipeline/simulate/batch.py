@@ -13,6 +13,7 @@ from .. import contact
 from ..errors import InputError, PipelineWarning
 from ..scene import Scene
 from ._common import (
+    _check_kt_scale,
     _check_models,
     _check_tangential_damping,
     _check_target,
@@ -499,6 +500,7 @@ def impact_outcomes(
     param=None,
     target_kappa=None,
     tangential_damping=0.0,
+    kt_scale=1.0,
     method="rk4",
 ) -> ImpactOutcomes:
     """Outcomes of many oblique impacts at once (vectorised, no per-scene loop).
@@ -516,7 +518,7 @@ def impact_outcomes(
     n_steps : int
         RK4 steps per elastic contact duration (t_c = 2.943·t*); damped contacts, which
         last longer, take proportionally more.
-    alpha, param, target_kappa, tangential_damping
+    alpha, param, target_kappa, tangential_damping, kt_scale
         As in :func:`impact`.
     method : {"rk4", "table"}
         ``"rk4"`` (default): integrate every scene. ``"table"``: Mindlin outcomes from
@@ -609,7 +611,7 @@ def impact_outcomes(
     slip0 = vt0 - spin * R1
     sign = np.where(slip0 < 0, -1.0, 1.0)
     s0 = np.abs(slip0) / v0
-    ktc = 8.0 * G * np.sqrt(Rs * dstar) * dstar**2 / (m_eff * v0**2)
+    ktc = _check_kt_scale(kt_scale) * 8.0 * G * np.sqrt(Rs * dstar) * dstar**2 / (m_eff * v0**2)
     if normal is None:
         names = np.where(e == 1.0, "hertz", "hunt_crossley")
     else:

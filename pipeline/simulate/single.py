@@ -13,6 +13,7 @@ from ..errors import InputError
 from ..scene import Scene
 from ._common import (
     _SELF_SIMILAR,
+    _check_kt_scale,
     _check_models,
     _check_tangential_damping,
     _check_target,
@@ -128,7 +129,13 @@ class _Problem:
 
 
 def _setup(
-    scene: Scene, normal, alpha=None, param=None, target_kappa=None, tangential_damping=0.0
+    scene: Scene,
+    normal,
+    alpha=None,
+    param=None,
+    target_kappa=None,
+    tangential_damping=0.0,
+    kt_scale=1.0,
 ) -> _Problem:
     _check_target(scene)
     for name in Scene.field_names():
@@ -163,7 +170,8 @@ def _setup(
     fscale = hi.m_eff * v0**2 / hi.delta_max
     # k_t·δ*²/(m*·v0²) = kt_coef·√(δ/δ*), k_t = 8·G*·√(R*·δ) (contact.mindlin_stiffness)
     kt_coef = (
-        8.0
+        kt_scale
+        * 8.0
         * scene.G_eff
         * math.sqrt(scene.R_eff * hi.delta_max)
         * hi.delta_max**2
@@ -438,6 +446,7 @@ def impact(
     param=None,
     target_kappa=None,
     tangential_damping=0.0,
+    kt_scale=1.0,
 ) -> xarray.Dataset:
     """Simulate one oblique impact and return its dense force record.
 
@@ -480,6 +489,9 @@ def impact(
         ``tangential mindlin`` (:mod:`pipeline.contact.tangential`, where YADE's
         convention is given beside it). Only with ``tangential="mindlin"``; zero for the
         elastic ``"hertz"`` law, which has no normal dashpot.
+    kt_scale : float
+        Tangential stiffness as a multiple of Mindlin's 8·G*·a [-] (> 0, default 1): real,
+        rough contacts are softer.
 
     Returns
     -------
@@ -521,7 +533,7 @@ def impact(
         scene.require("e", why="choosing the default normal law")
     normal_name = default_normal(scene.e) if normal is None else normal
     xg = _check_tangential_damping(tangential_damping, tangential)
-    pb = _setup(scene, normal_name, alpha, param, target_kappa, xg)
+    pb = _setup(scene, normal_name, alpha, param, target_kappa, xg, _check_kt_scale(kt_scale))
     atol = rtol if atol is None else atol
     segments, y_end, tau_dmax = _solve(pb, tangential, history, rtol, atol, method)
     friction_ratio = _friction_ratio(pb, tangential, history, segments)
@@ -670,6 +682,7 @@ def impact(
         "method": method,
         "stick_slip_segments": len(segments),
         "tangential_damping": xg,
+        "kt_scale": float(kt_scale),
         "friction_ratio_max": friction_ratio,
     }
     if target_kappa is not None:
