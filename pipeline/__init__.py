@@ -10,7 +10,7 @@ from .errors import InputError
 from .scene import Scene
 
 __version__ = "0.1.0"
-__all__ = ["InputError", "Scene", "advise", "analyse", "__version__"]
+__all__ = ["InputError", "Scene", "advise", "analyse", "fit_outcomes", "__version__"]
 
 
 _SUBMODULES = {
@@ -43,6 +43,8 @@ def __getattr__(name):
         return importlib.import_module(".analysis", __name__).analyse
     if name == "advise":
         return importlib.import_module(".advice", __name__).advise
+    if name == "fit_outcomes":
+        return importlib.import_module(".fit.outcomes", __name__).fit_outcomes
     if name in _SUBMODULES:
         return importlib.import_module(f".{name}", __name__)
     raise AttributeError(f"module 'pipeline' has no attribute {name!r}")
