@@ -416,6 +416,24 @@ def _solve(pb: _Problem, tangential, history, rtol, atol, method):
     )
 
 
+def _golden_max(f, lo, hi, xtol):
+    """max of a unimodal f on [lo, hi] by golden-section search (to xtol in the argument)."""
+    g = 0.5 * (math.sqrt(5.0) - 1.0)
+    a, b = lo, hi
+    c, d = b - g * (b - a), a + g * (b - a)
+    fc, fd = f(c), f(d)
+    while b - a > xtol:
+        if fc > fd:
+            b, d, fd = d, c, fc
+            c = b - g * (b - a)
+            fc = f(c)
+        else:
+            a, c, fc = c, d, fd
+            d = a + g * (b - a)
+            fd = f(d)
+    return max(fc, fd)
+
+
 def _friction_ratio(pb: _Problem, tangential, history, segments):
     """max |Ft|/(μ·Fn) over the accepted steps in contact (NaN without friction)."""
     if tangential == "none" or pb.mu == 0:
@@ -556,8 +574,6 @@ def impact(
     FN[0] = pb.fn(0.0, 1.0)
     FT[-1] = _ft_of(pb, tangential, history, segments[-1][3], y_end[:, None])[0]
 
-    from scipy.optimize import minimize_scalar  # loaded on first use
-
     # ---- refine F_max and δ_max on the dense output
     def f_at(tau):
         k = min(int(np.searchsorted(bounds, tau, side="left")), len(segments) - 1)
@@ -566,10 +582,7 @@ def impact(
 
     i = int(np.argmax(FN))
     lo, hi_ = tau_s[max(i - 1, 0)], tau_s[min(i + 1, n - 1)]
-    res = minimize_scalar(
-        lambda t: -f_at(t), bounds=(lo, hi_), method="bounded", options={"xatol": 1e-12 * tau_c}
-    )
-    fmax = max(-res.fun, float(FN[i]))
+    fmax = max(_golden_max(f_at, lo, hi_, 1e-12 * tau_c), float(FN[i]))
     if tau_dmax is not None:
         k = min(int(np.searchsorted(bounds, tau_dmax, side="left")), len(segments) - 1)
         xmax = float(segments[k][2](tau_dmax)[0])
