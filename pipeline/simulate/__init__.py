@@ -61,14 +61,26 @@ Tangential models
     the continuous-time limit of these rules exactly, switching between stick and slide
     at events.
 
-Two paths:
+Tangential damping (``tangential_damping=``, LAMMPS's x_γ,t): a dashpot on the slip in
+parallel with the Mindlin spring, x_γ,t times the normal law's dashpot coefficient at the
+same overlap, spring and dashpot capped together at μ·Fn (LAMMPS ``tangential mindlin``;
+YADE's convention beside it in :mod:`pipeline.contact.tangential`). ``kt_scale`` scales the
+spring (rough contacts are softer than 8·G*·a).
+
+Three paths, one physics (they agree within their stated errors; ``tests/test_simulate.py``
+sweeps every law, both history rules and both paths over 1–89° of Chung & Ooi's test 4):
 
 - :func:`impact` — one scene, adaptive ``solve_ivp`` with events at every stick/slide
   switch and at separation; returns a record (``xarray.Dataset``).
 - :func:`impact_outcomes` — thousands of scenes at once: a fixed-step RK4 in dimensionless
-  time over numpy arrays (no per-scene Python loop), the elastic normal problem taken from
-  the exact self-similar solution :func:`pipeline.contact.hertz_pulse`, Coulomb friction
-  from Routh's closed form; returns :class:`ImpactOutcomes`.
+  time over numpy arrays (no per-scene Python loop), the normal problem integrated once
+  per distinct damping parameter (every law is self-similar), Coulomb friction from Routh's
+  closed form; returns :class:`ImpactOutcomes`.
+- ``impact_outcomes(..., method="table")`` — the outcome read from a table of the
+  dimensionless tangential problem (:mod:`pipeline.simulate.table`), built once per law,
+  damping and stiffness group and cached, with a stated and tested interpolation error.
+
+:mod:`pipeline.simulate.lammps` runs the same scenes in LAMMPS, where it is installed.
 
 References
 ----------

@@ -13,8 +13,8 @@ from ..scene import Scene
 TANGENTIAL_MODELS = ("none", "coulomb", "mindlin")
 HISTORY_RULES = ("total", "incremental")
 
-#: laws whose dimensionless force depends on the damping parameter alone (F = K·δ^1.5·(1 +
-#: c·δ̇/v0)): their normal problem is integrated once per distinct parameter value.
+#: the Hunt–Crossley family, F = K·δ^1.5·(1 + c·δ̇/v0): the single path evaluates it with a
+#: fast scalar expression, and its force stays positive until δ = 0.
 _SELF_SIMILAR = ("hunt_crossley", "lankarani_nikravesh", "flores")
 
 

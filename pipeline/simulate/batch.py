@@ -557,7 +557,9 @@ def impact_outcomes(
     grows as δ^{1/4} at first contact (linear dashpot on Hertz, viscoelastic) are not
     smooth there and converge more slowly: at n_steps = 400 and e ≥ 0.05,
     |Δe_n|, |Δe_t| < 1e-4, relative t_contact < 5e-4 and F_max < 1e-3 (the peak force of
-    a heavily damped dashpot comes right after first contact).
+    a heavily damped dashpot comes right after first contact). With a tangential dashpot
+    (x_γ,t = 1, Tsuji dashpot at e = 0.98, Chung & Ooi test 4, 1–89°): |Δe_t| ≤ 3.1e-5 at
+    n_steps = 400, 1e-6 at 1600.
     Scenes whose damping is too stiff for the explicit fixed step (e.g. an absurd material
     constant) come back as NaN with a :class:`~pipeline.errors.PipelineWarning`.
     """

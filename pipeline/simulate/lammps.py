@@ -43,6 +43,7 @@ import re
 import shutil
 import subprocess
 import tempfile
+import time
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -292,8 +293,6 @@ def run_lammps(
         tmp = Path(tmp)
         (tmp / "impacts.data").write_text(data)
         (tmp / "in.impacts").write_text(script)
-        import time
-
         t0 = time.perf_counter()
         proc = subprocess.run(
             [shutil.which(executable), "-in", "in.impacts", "-log", "log.lammps", "-nocite"],
