@@ -745,6 +745,9 @@ def test_tangential_damping_is_checked():
             impact(sc, tangential_damping=bad)
     with pytest.raises(InputError, match="the 'coulomb' model has none"):
         impact_outcomes(sc, tangential="coulomb", tangential_damping=0.5)
+    for bad in (0.0, -0.5, math.inf, None):
+        with pytest.raises(InputError, match="kt_scale must be a finite number > 0"):
+            impact_outcomes(sc, kt_scale=bad)
     from pipeline.simulate import tangential_history
 
     q = np.zeros((5, 1))

@@ -33,11 +33,19 @@ def _check_models(tangential, history):
         raise InputError(f"unknown Mindlin history rule {history!r}; choose one of {HISTORY_RULES}")
 
 
-def _check_tangential_damping(value, tangential):
+def _finite_number(value, name, *, positive):
+    """A real number (not a bool or a string), finite and > 0 (or ≥ 0), as a float."""
     number = isinstance(value, int | float | np.number) and not isinstance(value, bool)
-    xg = float(value) if number else math.nan
-    if not (math.isfinite(xg) and xg >= 0):
-        raise InputError(f"tangential_damping must be a finite number ≥ 0; got {value!r}")
+    x = float(value) if number else math.nan
+    if not (math.isfinite(x) and (x > 0 if positive else x >= 0)):
+        raise InputError(
+            f"{name} must be a finite number {'> 0' if positive else '≥ 0'}; got {value!r}"
+        )
+    return x
+
+
+def _check_tangential_damping(value, tangential):
+    xg = _finite_number(value, "tangential_damping", positive=False)
     if xg and tangential != "mindlin":
         raise InputError(
             f"tangential_damping acts in parallel with the Mindlin spring; the {tangential!r} "
@@ -47,11 +55,7 @@ def _check_tangential_damping(value, tangential):
 
 
 def _check_kt_scale(value):
-    number = isinstance(value, int | float | np.number) and not isinstance(value, bool)
-    k = float(value) if number else math.nan
-    if not (math.isfinite(k) and k > 0):
-        raise InputError(f"kt_scale must be a finite number > 0; got {value!r}")
-    return k
+    return _finite_number(value, "kt_scale", positive=True)
 
 
 _law = contact._law  # name -> NormalLaw, InputError naming the choices

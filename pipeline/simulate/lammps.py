@@ -210,12 +210,9 @@ def run_lammps(
     R, m = float(s0.radius), float(s0.m)
     kn = 4.0 / 3.0 * float(s0.E_eff)
     kt = 8.0 * float(s0.G_eff)
-    law = contact.NORMAL_LAWS[normal] if normal in contact.NORMAL_LAWS else None
-    if normal == "hertz_dashpot_secant":
-        zetas = [
-            law.calibrate(s.e) if param is None else param for s in scenes
-        ]  # one value: e is shared
-        alpha = 2.0 * float(zetas[0])
+    if normal == "hertz_dashpot_secant":  # LAMMPS's α = 2ζ (secant stiffness, module notes)
+        zeta = contact.NORMAL_LAWS[normal].calibrate(s0.e) if param is None else param
+        alpha = 2.0 * float(zeta)
         damping = f"hertz {kn!r} {tsuji_cor_input(alpha)!r} damping tsuji"
     elif normal == "hertz":
         damping = f"hertz {kn!r} 0.0 damping velocity"
