@@ -31,6 +31,9 @@ __all__ = ["impact"]
 
 _F_END = 1e-12  # separation: dimensionless Fn below this during restitution
 _MAX_SEGMENTS = 400
+#: largest step in τ = t·v0/δ_max (the elastic contact lasts 2.94): events are sign changes
+#: between steps, and a loose rtol otherwise lets one step hide a stick-slip excursion
+_MAX_STEP = 0.05
 
 
 @dataclass(frozen=True)
@@ -382,6 +385,7 @@ def _solve(pb: _Problem, tangential, history, rtol, atol, method):
             atol=atol_v,
             events=evs,
             dense_output=True,
+            max_step=_MAX_STEP,
         )
         if sol.status < 0:
             raise RuntimeError(f"impact integration failed: {sol.message}")
