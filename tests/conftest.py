@@ -1,5 +1,7 @@
 """Test-wide settings.
 
+The outcome-table cache lives in a temporary folder.
+
 Hypothesis explores new random examples on every local run; under CI (``CI`` set, as the
 CI runner does) it runs a fixed, derandomised set so a landing never hinges on luck. Any
 failure found locally is a real bug and is kept in the local example database.
@@ -7,7 +9,21 @@ failure found locally is a real bug and is kept in the local example database.
 
 import os
 
+import pytest
 from hypothesis import settings
+
+
+@pytest.fixture(autouse=True, scope="session")
+def _outcome_table_cache(tmp_path_factory):
+    """The outcome tables of pipeline.simulate.table are cached on disk; the tests write
+    only to temporary folders, so they get a cache of their own (built once per session)."""
+    old = os.environ.get("PIPELINE_CACHE")
+    os.environ["PIPELINE_CACHE"] = str(tmp_path_factory.mktemp("pipeline-cache"))
+    yield
+    if old is None:
+        del os.environ["PIPELINE_CACHE"]
+    else:
+        os.environ["PIPELINE_CACHE"] = old
 
 settings.register_profile("ci", derandomize=True, database=None, print_blob=True)
 if os.environ.get("CI"):
