@@ -25,6 +25,7 @@ def _outcome_table_cache(tmp_path_factory):
     else:
         os.environ["PIPELINE_CACHE"] = old
 
+
 settings.register_profile("ci", derandomize=True, database=None, print_blob=True)
 if os.environ.get("CI"):
     settings.load_profile("ci")

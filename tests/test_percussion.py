@@ -106,15 +106,18 @@ def test_hertz_restitution_is_one_every_way():
         assert s.Pt_c == pytest.approx(MU * MV, rel=1e-3)
         # energy: W_c = m*v0²/2 (all kinetic energy of approach stored)
         assert s.W_c == pytest.approx(0.5 * IMPACT.m_eff * IMPACT.v0**2, rel=1e-12)
-    # without mass and speed: the closure estimate (mean Pn = m*·v0)
+    # without mass and speed: the closure estimate (mean Pn = m*·v0 over the contact). The
+    # window of a simulated record may end one sample past the contact (whether the sample
+    # at t_c counts as inside is a matter of rounding), which moves the mean Pn by up to
+    # (h/t_c)·2m*v0: the tolerance is two samples of 200
     s = compression_split(p)
     assert s.method == "closure"
-    assert s.Pn_c == pytest.approx(MV, rel=1e-3)
-    assert s.e_poisson == pytest.approx(1.0, abs=1e-3)
+    assert s.Pn_c == pytest.approx(MV, rel=2 / 200)
+    assert s.e_poisson == pytest.approx(1.0, abs=2 * 2 / 200)
     assert np.isnan(s.e_newton)
     # with the mass alone, closure estimates the approach speed
     s = compression_split(p, m=IMPACT.m_eff)
-    assert s.v_n0 == pytest.approx(IMPACT.v0, rel=1e-3) and not s.v_n0_given
+    assert s.v_n0 == pytest.approx(IMPACT.v0, rel=2 / 200) and not s.v_n0_given
     # the documented peak-of-Fn fallback warns; for elastic contact it is exact
     with pytest.warns(PipelineWarning, match="peak of Fn"):
         s = compression_split(p, method="peak_force")

@@ -836,3 +836,13 @@ def test_table_is_cached_on_disk_and_falls_back_to_integration(table_cache):
     np.testing.assert_array_equal(a.Pt_final, b.Pt_final)
     with pytest.raises(InputError, match="method must be 'rk4' or 'table'"):
         impact_outcomes(sc, method="lookup")
+
+
+def test_a_tangential_spring_too_stiff_for_the_fixed_step_is_flagged():
+    """Past ω_t·h ≈ 0.15 the RK4 tangential error outgrows the stated bound; the batch path
+    says so instead of returning the number silently (physical Mindlin stiffness: 0.017)."""
+    scene = al_oxide(15.0)
+    out = impact_outcomes(scene, normal="hertz", n_steps=400)  # physical k_t: no warning
+    assert np.isfinite(out.e_t)
+    with pytest.warns(PipelineWarning, match="tangential stiffness too high"):
+        impact_outcomes(scene, normal="hertz", n_steps=400, kt_scale=200.0)
