@@ -108,7 +108,7 @@ TRUTH = {"Fx": [0.25, -1.5, 2.0, 0.0], "Fy": [0.0, 0.01, -0.02, 0.0], "Fz": [1.0
 
 
 def _sensor_text(sep=",", dec=".", t_unit="[us]", f_unit="[kN]", eol="\n", meta=True):
-    head = ["# operator: A. Lab", "# Sample rate = 2 MHz", "# free comment"] if meta else []
+    head = ["# operator: A. Lab", "# Trigger level = 2 N", "# free comment"] if meta else []
     cols = [f"time {t_unit}", f"Fx {f_unit}", f"Fy {f_unit}", f"Fz {f_unit}"]
     rows = [sep.join(cols)]
     for k, t in enumerate(TRUTH_T):
@@ -140,7 +140,7 @@ def test_sensor_dialects_convert_to_si(
     np.testing.assert_allclose(rec["Ft"].values, np.array(TRUTH["Fx"]) * f_factor, rtol=1e-15)
     np.testing.assert_allclose(rec["Fy"].values, np.array(TRUTH["Fy"]) * f_factor, rtol=1e-15)
     assert rec.attrs["meta_operator"] == "A. Lab"
-    assert rec.attrs["meta_sample_rate"] == "2 MHz"
+    assert rec.attrs["meta_trigger_level"] == "2 N"
     assert rec.attrs["meta_comment"] == "free comment"
     assert rec.attrs["sha256"] == __import__("hashlib").sha256(p.read_bytes()).hexdigest()
     assert rec["Fn"].attrs["units"] == "N" and rec["time"].attrs["units"] == "s"

@@ -246,7 +246,7 @@ def sensor_dialect(draw):
         rows.append(sep.join(cells) + trail)
         if draw(st.integers(0, 5)) == 0:
             rows.append(draw(st.sampled_from(["", " ", "  "])))  # blank line inside the table
-    meta = draw(st.lists(st.sampled_from(["# operator: A. Lab", "# rate = 1 MHz", "# note"])))
+    meta = draw(st.lists(st.sampled_from(["# operator: A. Lab", "# gain = 10 N/V", "# note"])))
     excel = [f"sep={sep}"] if draw(st.booleans()) else []
     eol = draw(st.sampled_from(["\n", "\r\n", "\r"]))
     text = eol.join(excel + meta + [sep.join(cols) + trail] + rows) + eol

@@ -54,6 +54,7 @@ import pandas as pd
 from ..errors import InputError
 from ..record import make_record
 from ._common import (
+    DECOUPLE_AXES,
     DEFAULT_AXES,
     FORCE_COLUMNS,
     LINE_END,
@@ -64,12 +65,15 @@ from ._common import (
     canonical_column,
     check_plane,
     decode,
+    decouple_columns,
     first_non_increase,
     meta_key,
+    read_decoupling,
     read_raw,
     resolve_axes,
     scene_attrs,
 )
+from .metadata import check_sample_rate
 from .units import resolve_unit, split_unit, time_factor
 
 __all__ = ["read_sensor", "write_sensor", "DEFAULT_AXES"]
@@ -153,7 +157,16 @@ def write_sensor(record, path, *, metadata: dict | None = None) -> Path:
 
 
 # ------------------------------------------------------------------------------ reader
-def read_sensor(path, *, time_unit=None, force_unit=None, axes=None, encoding=None, **scene_fields):
+def read_sensor(
+    path,
+    *,
+    time_unit=None,
+    force_unit=None,
+    axes=None,
+    encoding=None,
+    decouple=None,
+    **scene_fields,
+):
     """Read a lab sensor CSV into a record.
 
     Parameters
@@ -168,6 +181,10 @@ def read_sensor(path, *, time_unit=None, force_unit=None, axes=None, encoding=No
         Record channel → file column, sign by a leading ``-`` (see module notes).
     encoding : str, optional
         Text encoding when the file is not UTF-8/UTF-16-with-BOM (e.g. ``"cp1252"``).
+    decouple : array_like or path, optional
+        The sensor's 3×3 decoupling matrix (or a file holding it, see
+        :func:`pipeline.io.read_decoupling`), applied to the raw (Fx, Fy, Fz) in N before
+        the axis map; its provenance goes in the attributes (``decouple_*``).
     **scene_fields : float
         Scene fields stored in the record's attributes (names as :class:`pipeline.Scene`).
 
@@ -187,6 +204,7 @@ def read_sensor(path, *, time_unit=None, force_unit=None, axes=None, encoding=No
         When max|Fy| exceeds 5 % of max|Fn|.
     """
     scene = scene_attrs(scene_fields)
+    matrix = None if decouple is None else read_decoupling(decouple)
     p, raw, sha = read_raw(path, background_hash=True)
     return parse_sensor_bytes(
         raw,
@@ -197,6 +215,7 @@ def read_sensor(path, *, time_unit=None, force_unit=None, axes=None, encoding=No
         axes=axes,
         scene=scene,
         encoding=encoding,
+        decouple=matrix,
     )
 
 
@@ -225,7 +244,11 @@ def _split_head(text: str, p: Path):
             body = stripped.lstrip("#").strip()
             m = re.match(r"^([^:=]+?)\s*[:=]\s*(.*)$", body)
             if m:
-                meta[meta_key(m.group(1))] = m.group(2).strip()
+                key, value = m.group(1), m.group(2).strip()
+                name, unit = split_unit(key)  # "impact speed [m/s]: 0.6" → "0.6 m/s"
+                if unit and name:
+                    key, value = name, f"{value} {unit}"
+                meta[meta_key(key)] = value
             elif body:
                 comments.append(body)
         elif stripped:
@@ -468,8 +491,10 @@ def parse_sensor_bytes(
     scene=None,
     encoding=None,
     fmt="sensor_csv",
+    decouple=None,
 ):
-    """Parse the bytes of a sensor CSV (``p`` and ``sha`` for messages and attributes)."""
+    """Parse the bytes of a sensor CSV (``p`` and ``sha`` for messages and attributes;
+    ``decouple`` the ``(matrix, attrs)`` of :func:`~pipeline.io._common.read_decoupling`)."""
     raw, head, body_offset, full_text = _head_and_body(raw, p, encoding)
     meta, header, header_line, body_start, sep = _split_head(head, p)
     if full_text is not None:
@@ -489,17 +514,27 @@ def parse_sensor_bytes(
     t_factor, t_unit = resolve_unit(
         "time", time_col[2], time_unit, path=p, column=time_col[1], line=header_line
     )
-    f_factors = {}
-    for name, (col, _) in chosen.items():
+    matrix, decouple_attrs = decouple if decouple is not None else (None, {})
+    needed = [col for col, _ in chosen.values()]
+    if matrix is not None:
+        missing = [c for c in DECOUPLE_AXES if c not in force_cols]
+        if missing:
+            raise InputError(
+                f"decouple= needs the raw Fx, Fy and Fz columns; the header has no "
+                f"{', '.join(missing)}",
+                path=p,
+                line=header_line,
+            )
+        needed += [c for c in DECOUPLE_AXES if c not in needed]
+    f_factors = {}  # file column → (factor to N, unit)
+    for col in needed:
         _, h, unit = columns[col]
-        f_factors[name] = resolve_unit(
-            "force", unit, force_unit, path=p, column=h, line=header_line
-        )
-    f_units = {u for _, u in f_factors.values()}
+        f_factors[col] = resolve_unit("force", unit, force_unit, path=p, column=h, line=header_line)
+    f_units = {f_factors[col][1] for col, _ in chosen.values()}
 
     # The body: pandas' C parser, no Python loop over rows.
     wanted = {time_col[0]: "time"}
-    for col, _sign in chosen.values():
+    for col in needed:
         wanted[columns[col][0]] = col
     names = [wanted.get(j) for j in range(len(raw_names))]
     ignored = [h for j, h in enumerate(raw_names) if h and j not in wanted]
@@ -580,12 +615,20 @@ def parse_sensor_bytes(
             line=line,
             column=time_col[1],
         )
+    si = {}
+    if matrix is not None:  # cross-talk: corrected = M @ raw (Fx, Fy, Fz), in N
+        raw3 = {c: cols[c] * f_factors[c][0] for c in DECOUPLE_AXES}
+        si = decouple_columns(raw3, matrix, p)
     forces = {}
     for name, (col, sign) in chosen.items():
-        factor = f_factors[name][0] * sign
+        if col in si:
+            forces[name] = si[col] * sign if sign != 1.0 else si[col]
+            continue
+        factor = f_factors[col][0] * sign
         values = cols[col]
         forces[name] = values * factor if factor != 1.0 else values
     check_plane(forces, p)
+    check_sample_rate(meta, t, t_unit, p)
     if not isinstance(sha, str):
         sha = sha.hexdigest()
     attrs = base_attrs(p, sha, fmt, "sensor")
@@ -596,6 +639,7 @@ def parse_sensor_bytes(
     )
     if ignored:
         attrs["ignored_columns"] = ",".join(ignored)
+    attrs.update(decouple_attrs)
     attrs.update(meta)
     attrs.update(scene or {})
     return make_record(t, forces, attrs=attrs)
