@@ -19,8 +19,7 @@ Sensor records (``kind="sensor"``), per :func:`find_contact`:
    false-alarm probability :math:`\alpha = 10^{-3}` for the whole record, so pure white
    Gaussian noise exceeds it anywhere in the record with probability ≈ α
    (:math:`k \approx 5.3` for 5 000 samples, 5.8 for 10⁵). An excursion of at most
-   :data:`GLITCH_SAMPLES` samples (or :data:`GLITCH_FRACTION` of the longest) is a
-   *spike*; a longer one with at least two samples above threshold is a *pulse*. The
+   :data:`GLITCH_SAMPLES` samples is a *spike*; a longer one with at least two samples above threshold is a *pulse*. The
    contact is the **first** positive pulse at least :data:`MINOR_PULSE` of the largest.
 4. **Ends.** Each end is the zero crossing of :math:`r` (the pulse starts and ends at zero
    force), linearly interpolated between the last sample above :math:`\hat\sigma` and
@@ -28,8 +27,8 @@ Sensor records (``kind="sensor"``), per :func:`find_contact`:
    :math:`(0, \hat\sigma]` (see :func:`_ends` for why σ and not 0).
 5. **Refit.** The baseline :math:`b(t) = a + s\,(t - t_{ref})` is refitted by least squares
    to the samples outside the window widened by ``guard``·duration on each side (ringing
-   after the pulse is kept out), and outside every other excursion; steps 2–5 repeat
-   until the window no longer changes.
+   after the pulse is kept out), and outside the other impacts and the spikes; steps 2–5
+   repeat until the window no longer changes.
 
 Plausibility checks on the way, each with the number that tripped it (the typed errors and
 warnings of :mod:`pipeline.errors`):
@@ -457,11 +456,11 @@ def _sensor(record, *, k, false_alarm, guard, max_iter):
         g_left = min(guard * dur, 0.5 * (t0 - t[0]))
         g_right = min(guard * dur, 0.5 * (t[-1] - t1))
         new_outside = (t < t0 - g_left) | (t > t1 + g_right)
-        left = int(np.count_nonzero(new_outside & (t < t0)))
-        right = int(np.count_nonzero(new_outside & (t > t1)))
-        for other in new.others + new.glitches + new.ignored:  # not baseline either
+        for other in new.others + new.glitches:  # other impacts and spikes: not baseline
             g = max(int(guard * (other.b - other.a + 1)), 1)
             new_outside[max(other.a - g, 0) : other.b + g + 1] = False
+        left = int(np.count_nonzero(new_outside & (t < t0)))
+        right = int(np.count_nonzero(new_outside & (t > t1)))
         if left + right < 8:
             _check_truncated(new, t, r, sigma, src)
             raise InputError(
@@ -526,11 +525,10 @@ def _sensor(record, *, k, false_alarm, guard, max_iter):
 
 
 # ------------------------------------------------------------- pulses, spikes and checks
-#: A run of samples above the threshold this short (or shorter than this fraction of the
-#: longest run) is a spike, not a contact pulse: a real pulse rises and falls over many
-#: samples (≈ 100–250 at 1–2 MHz for a steel ball), a trigger glitch lasts one to three.
+#: A run of samples above the threshold this short is a spike, not a contact pulse: a real
+#: pulse rises and falls over many samples (≈ 100–250 at 1–2 MHz for a steel ball), a
+#: trigger glitch lasts one to three.
 GLITCH_SAMPLES = 3
-GLITCH_FRACTION = 0.05
 #: A pulse smaller than this fraction of the largest is not reported as a second impact
 #: (filter ringing, a touch of the sensor); it is still kept out of the baseline fit.
 MINOR_PULSE = 0.05
@@ -565,7 +563,7 @@ class _Found:
     b: int
     others: tuple = ()  # later (or earlier) positive pulses: impacts, reported
     glitches: tuple = ()  # spikes: reported
-    ignored: tuple = ()  # negative excursions, minor pulses: kept out of the baseline
+    ignored: tuple = ()  # negative excursions, minor pulses (a misfit baseline's too)
     split: int | None = None  # index of the dip where a second impact was cut off
 
     @property
@@ -636,8 +634,7 @@ def _choose(runs, r, sigma, kk, src) -> _Found | None:
     """The contact pulse: the first positive pulse of note (see the module notes)."""
     if not runs:
         return None
-    longest = max(run.size for run in runs)
-    spike = max(GLITCH_SAMPLES, GLITCH_FRACTION * longest)
+    spike = GLITCH_SAMPLES
     glitches = [run for run in runs if run.size <= spike]
     pulses = [run for run in runs if run.size > spike and run.core >= 2]
     if not pulses:
@@ -645,7 +642,7 @@ def _choose(runs, r, sigma, kk, src) -> _Found | None:
             g = max(glitches, key=lambda run: abs(r[run.peak]))
             raise NoPulseError(
                 f"no contact pulse found, only {len(glitches)} spike(s) of at most "
-                f"{int(spike)} samples (the largest {float(r[g.peak]):.4g} N at sample "
+                f"{spike} samples (the largest {float(r[g.peak]):.4g} N at sample "
                 f"{g.peak}, {abs(r[g.peak]) / sigma:.3g} σ): a contact pulse lasts many "
                 "samples. Check the trigger and that the file holds the impact",
                 path=src,
