@@ -7,9 +7,9 @@ baseline from every force channel and reports the noise it measured.
 Sensor records (``kind="sensor"``), per :func:`find_contact`:
 
 1. **Initial baseline.** The line through the medians of the first and last 10 % of the
-   record (pre- and post-trigger samples are baseline) — or, when one of these two ends is
-   far noisier than the other (it lies inside a pulse the file cuts), the quiet end's
-   median.
+   record (pre- and post-trigger samples are baseline) — or the median of one end alone,
+   when that leaves the record's samples closer to it (the other end lies inside a pulse
+   the file cuts; see :func:`_initial_baseline`).
 2. **Noise.** Residuals :math:`r = F_n - b(t)`; the noise level is the normalised median
    absolute deviation :math:`\hat\sigma = 1.4826\,\mathrm{median}|r - \mathrm{median}\,r|`
    over the samples currently taken as baseline (robust: the pulse does not inflate it).
@@ -19,8 +19,9 @@ Sensor records (``kind="sensor"``), per :func:`find_contact`:
    false-alarm probability :math:`\alpha = 10^{-3}` for the whole record, so pure white
    Gaussian noise exceeds it anywhere in the record with probability ≈ α
    (:math:`k \approx 5.3` for 5 000 samples, 5.8 for 10⁵). An excursion of at most
-   :data:`GLITCH_SAMPLES` samples is a *spike*; a longer one with at least two samples above threshold is a *pulse*. The
-   contact is the **first** positive pulse at least :data:`MINOR_PULSE` of the largest.
+   :data:`GLITCH_SAMPLES` samples is a *spike*; a longer one with at least two samples
+   above threshold is a *pulse*. The contact is the **first** positive pulse at least
+   :data:`MINOR_PULSE` of the largest.
 4. **Ends.** Each end is the zero crossing of :math:`r` (the pulse starts and ends at zero
    force), linearly interpolated between the last sample above :math:`\hat\sigma` and
    its outward neighbour, or that neighbour's instant when it lies in
@@ -579,33 +580,29 @@ def _sigma(r) -> float:
 def _initial_baseline(t, y, t_ref):
     """The first baseline and the samples it rests on.
 
-    The line through the medians of the first and last 10 % of the record — unless one of
-    the two is far noisier than the other (its spread about its own straight line over
-    10× the other's): then that end lies inside the pulse (a file cut mid-pulse) and the
-    baseline is the quiet end's median alone, so the cut pulse is seen as a positive pulse
-    running off the record rather than as a negative one.
+    Three candidates: the line through the medians of the first and last 10 % of the
+    record, and the median of either end alone. The one that leaves the record's samples
+    closest to it (smallest median absolute residual) wins: when both ends are baseline
+    the line follows the drift; when one end lies inside a pulse the file cuts, the line
+    would run through the pulse and turn it negative, and the quiet end's median wins.
     """
     n = t.size
     m = max(n // 10, 3)
-    ends = (slice(0, m), slice(n - m, n))
-    spread = []
-    for sl in ends:
-        tt, yy = t[sl], y[sl]
-        line = np.polynomial.polynomial.polyfit(tt - tt.mean(), yy, 1)
-        spread.append(mad_sigma(yy - np.polynomial.polynomial.polyval(tt - tt.mean(), line)))
-    lo, hi = sorted(spread)
-    outside = np.zeros(n, dtype=bool)
-    if hi > 10.0 * lo:
-        quiet = ends[int(np.argmin(spread))]
-        outside[quiet] = True
-        return Baseline(float(np.median(y[quiet])), 0.0, float(t_ref)), outside
     ta, ya = np.median(t[:m]), np.median(y[:m])
     tb, yb = np.median(t[-m:]), np.median(y[-m:])
     slope = (yb - ya) / (tb - ta)
-    # the first noise estimate uses the same end samples: a pulse that fills most of a
+    first, last, both = (np.zeros(n, dtype=bool) for _ in range(3))
+    first[:m] = last[-m:] = True
+    both[:m] = both[-m:] = True
+    candidates = [
+        (Baseline(float(ya + slope * (t_ref - ta)), float(slope), float(t_ref)), both),
+        (Baseline(float(ya), 0.0, float(t_ref)), first),
+        (Baseline(float(yb), 0.0, float(t_ref)), last),
+    ]
+    spread = [float(np.median(np.abs(y - base(t)))) for base, _ in candidates]
+    # the first noise estimate uses the chosen end samples: a pulse that fills most of a
     # short record would otherwise inflate the MAD past the pulse itself
-    outside[:m] = outside[-m:] = True
-    return Baseline(float(ya + slope * (t_ref - ta)), float(slope), float(t_ref)), outside
+    return candidates[int(np.argmin(spread))]
 
 
 def _runs(r, sigma, kk) -> list[_Run]:
