@@ -41,7 +41,7 @@ from pathlib import Path
 import numpy as np
 
 from . import figures
-from ._atomic import atomic_dir, atomic_write_text
+from ._atomic import atomic_dir, atomic_write_text, clean_stale
 from ._json import json_ready
 from .analysis import Analysis, analyse
 from .errors import InputError
@@ -374,6 +374,7 @@ def reproduce(
     files = sample_files(samples)
     if not files:
         raise InputError(f"no sample records (*.csv, *.tdms) in {samples}")
+    clean_stale(out)  # a killed run's staging folder goes now, not only when this one ends
     records, analyses = [], {}
     for path in files:
         entry, a = _one(path, n_boot, seed)
