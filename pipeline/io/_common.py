@@ -412,7 +412,7 @@ def read_decoupling(spec) -> tuple[np.ndarray, dict]:
                 matrix = rows
         except InputError:
             raise
-        except (ValueError, TypeError) as exc:
+        except Exception as exc:  # numpy's .npy reader raises many types on a corrupt file
             raise InputError(
                 f"cannot read a 3×3 decoupling matrix ({exc}); write three rows of three numbers",
                 path=p,
