@@ -45,7 +45,7 @@ from ._atomic import atomic_dir, atomic_write_text, clean_stale
 from ._json import json_ready
 from .analysis import Analysis, analyse
 from .errors import InputError
-from .io import load, read_json
+from .io import load, load_contact, read_json
 from .percussion import compression_split, percussions
 from .plausibility import check_plausible
 from .scene import Scene
@@ -206,10 +206,11 @@ def scene_from_sidecar(path) -> Scene | None:
     return Scene.from_dict(data["scene"], path=sidecar_path(path))
 
 
-def load_sample(path, **options):
+def load_sample(path, *, contact_only: bool = False, **options):
     """Load a record as its sidecar's ``"load"`` block says (combining files where
     ``"paths"`` is given); ``options`` (:func:`pipeline.io.load` keywords that are not
-    None) override the block's.
+    None) override the block's. ``contact_only``: keep only the first contact and its
+    margins (:func:`pipeline.io.load_contact`, bounded memory for a large file).
 
     A bad option from the sidecar is reported with the sidecar named beside the record.
     """
@@ -220,6 +221,8 @@ def load_sample(path, **options):
     paths = kwargs.pop("paths", None)
     target = path if paths is None else {ch: path.parent / p for ch, p in paths.items()}
     try:
+        if contact_only and paths is None:
+            return load_contact(target, **kwargs)
         return load(target, **kwargs)
     except InputError as exc:
         from_side = sorted(k for k in block if k not in given)

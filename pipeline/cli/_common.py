@@ -76,12 +76,23 @@ def add_record_options(p) -> None:
     )
 
 
+#: Files above this size are read keeping only the contact and its margins
+#: (pipeline.io.load_contact): memory stays bounded whatever the file's length.
+BIG_FILE = 64 << 20
+
+
 def read_record(path, args):
-    """The record at ``path`` read with the command's options over its sidecar's."""
+    """The record at ``path`` read with the command's options over its sidecar's; a file
+    over :data:`BIG_FILE` bytes streamed, keeping only its first contact."""
     from ..report import load_sample
 
+    try:
+        big = Path(path).stat().st_size > BIG_FILE
+    except OSError:
+        big = False  # the reader says what is wrong with the path
     return load_sample(
         path,
+        contact_only=big,
         time_unit=args.time_unit,
         force_unit=args.force_unit,
         axes=args.axes,

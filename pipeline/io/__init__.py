@@ -25,11 +25,13 @@ from ..record import validate
 from ._common import LINE_END, decode, file_path, read_decoupling, read_json, scene_attrs
 from .metadata import scene_from_metadata
 from .sensor import read_sensor, write_sensor
+from .stream import load_contact
 from .tdms import read_tdms
 from .wpd import is_datasets_text, read_wpd
 
 __all__ = [
     "load",
+    "load_contact",
     "sniff_format",
     "validate",
     "read_sensor",

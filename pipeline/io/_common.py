@@ -57,19 +57,30 @@ PLANE_TOLERANCE = 0.05
 
 
 class BackgroundHash:
-    """SHA-256 of a bytes object computed in a thread (hashlib releases the GIL), so a large
-    file is hashed while pandas' C parser, which also releases it, tokenises the table."""
+    """SHA-256 of a bytes object, or of a file read in blocks, computed in a thread (hashlib
+    and file reads release the GIL), so a large file is hashed while pandas' C parser, which
+    also releases it, tokenises the table."""
 
-    def __init__(self, raw: bytes):
+    def __init__(self, source):
         self._digest = None
-        self._thread = threading.Thread(target=self._run, args=(raw,), daemon=True)
+        self._error = None
+        self._thread = threading.Thread(target=self._run, args=(source,), daemon=True)
         self._thread.start()
 
-    def _run(self, raw):
-        self._digest = hashlib.sha256(raw).hexdigest()
+    def _run(self, source):
+        try:
+            if isinstance(source, bytes | bytearray | memoryview):
+                self._digest = hashlib.sha256(source).hexdigest()
+            else:
+                with open(source, "rb") as fh:
+                    self._digest = hashlib.file_digest(fh, "sha256").hexdigest()
+        except OSError as exc:  # the file vanished or became unreadable meanwhile
+            self._error = exc
 
     def hexdigest(self) -> str:
         self._thread.join()
+        if self._error is not None:
+            raise InputError(f"cannot read the file ({self._error})", path=None)
         return self._digest
 
 

@@ -60,12 +60,14 @@ from ._common import (
     LINE_END,
     NONFINITE,
     NUMBER,
+    BackgroundHash,
     atomic_write_text,
     base_attrs,
     canonical_column,
     check_plane,
     decode,
     decouple_columns,
+    file_path,
     first_non_increase,
     meta_key,
     read_decoupling,
@@ -165,6 +167,7 @@ def read_sensor(
     axes=None,
     encoding=None,
     decouple=None,
+    _crop=None,
     **scene_fields,
 ):
     """Read a lab sensor CSV into a record.
@@ -205,7 +208,11 @@ def read_sensor(
     """
     scene = scene_attrs(scene_fields)
     matrix = None if decouple is None else read_decoupling(decouple)
-    p, raw, sha = read_raw(path, background_hash=True)
+    head = _stream_head(path) if encoding is None else None
+    if head is not None:  # a large UTF-8 file: the parser reads it, not a copy in memory
+        p, raw, sha = file_path(path), head, BackgroundHash(file_path(path))
+    else:
+        p, raw, sha = read_raw(path, background_hash=True)
     return parse_sensor_bytes(
         raw,
         p,
@@ -216,7 +223,31 @@ def read_sensor(
         scene=scene,
         encoding=encoding,
         decouple=matrix,
+        head_only=head is not None,
+        crop=_crop,
     )
+
+
+#: Files larger than this are streamed from disk to the parser (their head read first);
+#: smaller ones are read whole (one read, and the hash from memory).
+STREAM_BYTES = 1 << 20
+_HEAD_BYTES = 1 << 16
+
+
+def _stream_head(path) -> bytes | None:
+    """The first 64 KiB of a large file that may be streamed, or None to read it whole
+    (small, UTF-16, or without a line feed in its head: bare-CR line ends are rewritten)."""
+    p = file_path(path)
+    try:
+        if p.stat().st_size <= STREAM_BYTES:
+            return None
+        with open(p, "rb") as fh:
+            head = fh.read(_HEAD_BYTES)
+    except OSError:
+        return None  # read_raw gives the message
+    if head.startswith((b"\xff\xfe", b"\xfe\xff")) or b"\n" not in head:
+        return None
+    return head
 
 
 # --------------------------------------------------------------------- the text parser
@@ -283,15 +314,27 @@ def _sniff_decimal(sample: str, sep: str) -> str:
 
 
 class _LazyText:
-    """A UTF-8 body kept as bytes; decoded only when an error message needs its lines."""
+    """A UTF-8 body kept as bytes; decoded only when an error message needs its lines.
 
-    def __init__(self, raw: bytes, offset: int, p: Path, header_line: int):
-        self.raw, self.offset, self.p, self.header_line = raw, offset, p, header_line
+    ``raw`` may hold only the file's head (a large file streamed to the parser): the rest
+    is read from ``p`` when an error message needs it.
+    """
+
+    def __init__(self, raw: bytes, offset: int, p: Path, header_line: int, *, head_only=False):
+        self._raw, self.offset, self.p, self.header_line = raw, offset, p, header_line
+        self._head_only = head_only
+
+    @property
+    def raw(self) -> bytes:
+        if self._head_only:
+            self._raw, self._head_only = read_raw(self.p)[1], False
+        return self._raw
 
     def __getitem__(self, item: slice):
         start = self.offset + (item.start or 0)
         stop = self.offset + item.stop
-        return self.raw[start:stop].decode("utf-8", errors="replace")
+        raw = self._raw if self._head_only and stop <= len(self._raw) else self.raw
+        return raw[start:stop].decode("utf-8", errors="replace")
 
     @property
     def data(self) -> bytes:
@@ -492,19 +535,46 @@ def parse_sensor_bytes(
     encoding=None,
     fmt="sensor_csv",
     decouple=None,
+    head_only=False,
+    crop=None,
 ):
     """Parse the bytes of a sensor CSV (``p`` and ``sha`` for messages and attributes;
-    ``decouple`` the ``(matrix, attrs)`` of :func:`~pipeline.io._common.read_decoupling`)."""
+    ``decouple`` the ``(matrix, attrs)`` of :func:`~pipeline.io._common.read_decoupling`;
+    ``head_only``: ``raw`` is the file's head and the body is streamed from ``p``; ``crop``
+    a :class:`pipeline.io.stream.Cropper` that keeps only the contact of a streamed body)."""
     raw, head, body_offset, full_text = _head_and_body(raw, p, encoding)
+    if head_only and body_offset + 4096 > len(raw):  # the head does not hold the header
+        return parse_sensor_bytes(
+            read_raw(p)[1], p, sha, time_unit=time_unit, force_unit=force_unit, axes=axes,
+            scene=scene, encoding=encoding, fmt=fmt, decouple=decouple, crop=crop,
+        )  # fmt: skip
     meta, header, header_line, body_start, sep = _split_head(head, p)
     if full_text is not None:
         body = full_text[body_start:]
         body_source = io.StringIO(body)
+    elif head_only:
+        body_source = open(p, "rb")  # closed after the parse below
+        body = _LazyText(raw, body_offset, p, header_line, head_only=True)
     else:
         # BytesIO over the bytes object shares its buffer: no copy of a large file.
         body_source = io.BytesIO(raw)
         body_source.seek(body_offset)
         body = _LazyText(raw, body_offset, p, header_line)
+    try:
+        return _parse_table(
+            body, body_source, body_offset, full_text, meta, header, header_line, sep, p,
+            sha, time_unit=time_unit, force_unit=force_unit, axes=axes, scene=scene,
+            fmt=fmt, decouple=decouple, crop=crop,
+        )  # fmt: skip
+    finally:
+        body_source.close()
+
+
+def _parse_table(
+    body, body_source, body_offset, full_text, meta, header, header_line, sep, p, sha, *,
+    time_unit, force_unit, axes, scene, fmt, decouple, crop=None,
+):  # fmt: skip
+    """The table after the head: columns, units, the parse, the checks, the record."""
     sep = sep or _sniff_separator(header, p, header_line)
     dec = _sniff_decimal(body[:4096], sep)
     raw_names = [h.strip().strip('"').strip() for h in header.split(sep)]
@@ -548,7 +618,7 @@ def parse_sensor_bytes(
         pd.errors.ParserWarning,
     )
 
-    def parse(decimal):
+    def parse(decimal, chunksize=None):
         body_source.seek(0 if full_text is not None else body_offset)
         with warnings.catch_warnings():
             # pandas only warns when every row has more fields than the header and then
@@ -565,10 +635,43 @@ def parse_sensor_bytes(
                 dtype={lab: (float if j in wanted else object) for j, lab in enumerate(labels)},
                 engine="c",
                 skip_blank_lines=True,
+                chunksize=chunksize,
             )
 
+    def to_forces(cols):
+        """File columns (file units) → record channels [N]: units, decoupling, axes."""
+        si = {}
+        if matrix is not None:  # cross-talk: corrected = M @ raw (Fx, Fy, Fz), in N
+            raw3 = {c: cols[c] * f_factors[c][0] for c in DECOUPLE_AXES}
+            si = decouple_columns(raw3, matrix, p)
+        forces = {}
+        for name, (col, sign) in chosen.items():
+            if col in si:
+                forces[name] = si[col] * sign if sign != 1.0 else si[col]
+                continue
+            factor = f_factors[col][0] * sign
+            values = cols[col]
+            forces[name] = values * factor if factor != 1.0 else values
+        return forces
+
+    crop_attrs = {}
+    if crop is not None:  # a large file: keep only the contact and its margins
+
+        def chunks():
+            with warnings.catch_warnings():
+                warnings.simplefilter("error", pd.errors.ParserWarning)
+                for frame in parse(dec, chunksize=crop.chunk_rows):
+                    yield {wanted[j]: frame[labels[j]].to_numpy() for j in sorted(wanted)}
+
+        try:
+            cols, crop_attrs = crop.run(chunks(), t_factor, to_forces)
+        except parse_errors as exc:
+            raise crop.Damaged(str(exc)) from exc
+        frame = None
+    else:
+        cols = None
     try:
-        frame = parse(dec)
+        frame = parse(dec) if cols is None else None
     except parse_errors as exc:
         # The decimal mark is sniffed from the first 4 KiB: integers there ("0;0") hide a
         # decimal comma further down. The other mark is taken only if every cell reads.
@@ -578,7 +681,7 @@ def parse_sensor_bytes(
                 frame = parse("," if dec == "." else ".")
         if frame is None:
             _diagnose(str(body), first_line, sep, dec, shown, p, exc)
-    n = len(frame)
+    n = len(frame) if cols is None else len(cols["time"])
     if n == 0:
         raise InputError("header only: the file has no data rows", path=p, line=header_line)
     if n == 1:
@@ -587,7 +690,8 @@ def parse_sensor_bytes(
             path=p,
             line=_row(body, first_line, sep, 0)[0],
         )
-    cols = {wanted[j]: frame[labels[j]].to_numpy() for j in sorted(wanted)}
+    if cols is None:
+        cols = {wanted[j]: frame[labels[j]].to_numpy() for j in sorted(wanted)}
     # Too few fields on a line fill NaN silently: check every used column for non-finite.
     for key, values in cols.items():
         bad = ~np.isfinite(values)
@@ -615,18 +719,7 @@ def parse_sensor_bytes(
             line=line,
             column=time_col[1],
         )
-    si = {}
-    if matrix is not None:  # cross-talk: corrected = M @ raw (Fx, Fy, Fz), in N
-        raw3 = {c: cols[c] * f_factors[c][0] for c in DECOUPLE_AXES}
-        si = decouple_columns(raw3, matrix, p)
-    forces = {}
-    for name, (col, sign) in chosen.items():
-        if col in si:
-            forces[name] = si[col] * sign if sign != 1.0 else si[col]
-            continue
-        factor = f_factors[col][0] * sign
-        values = cols[col]
-        forces[name] = values * factor if factor != 1.0 else values
+    forces = to_forces(cols)
     check_plane(forces, p)
     check_sample_rate(meta, t, t_unit, p)
     if not isinstance(sha, str):
@@ -640,6 +733,7 @@ def parse_sensor_bytes(
     if ignored:
         attrs["ignored_columns"] = ",".join(ignored)
     attrs.update(decouple_attrs)
+    attrs.update(crop_attrs)
     attrs.update(meta)
     attrs.update(scene or {})
     return make_record(t, forces, attrs=attrs)
