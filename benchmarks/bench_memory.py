@@ -3,14 +3,15 @@
 Files: long sensor CSVs (written by :func:`pipeline.io.write_sensor`) of one elastic Hertz
 impact (a 25.4 mm steel ball at 0.5 m/s, F_max ≈ 1.1 kN) in the middle of a 2 MHz record
 with offset, drift and 2 N white noise — a trigger-less acquisition. Sizes ``ROWS``
-(default 0.25 M, 1 M and 2 M rows, about 11 to 90 MB); ``PIPELINE_BENCH_ROWS=20000000``
-adds the issue's 20 M-row file (~0.9 GB). The files are made once under
+(default 0.25 M, 1 M and 2 M rows, about 17 to 140 MB); ``PIPELINE_BENCH_ROWS=20000000``
+adds the issue's 20 M-row file (~1.4 GB). The files are made once under
 ``build/bench_data/`` (kept between runs; free disk space is checked first).
 
 Each measurement runs in a fresh interpreter and reports its own peak RSS (``VmHWM`` of
-``/proc/self/status``; ``ru_maxrss`` would include the forking parent's): plain ``pandas.read_csv``, ``pipeline.io.load`` (the whole
-record in memory), and ``pipeline analyse FILE --scene ...`` (the command line, which
-streams a file over 64 MiB and keeps only the contact: :func:`pipeline.io.load_contact`).
+``/proc/self/status``; ``ru_maxrss`` would include the forking parent's): plain
+``pandas.read_csv``, ``pipeline.io.load`` (the whole record in memory), and
+``pipeline analyse FILE --scene ...`` (the command line, which streams a file over 64 MiB
+and keeps only the contact: :func:`pipeline.io.load_contact`).
 The interpreter with the package imported is measured too, so the figures show what the
 data cost. Target (issue 11): peak RSS of ``analyse`` ≤ 1.2 × the file size on the largest
 file. Writes ``memory.json`` and ``memory.png``.

@@ -605,9 +605,17 @@ def _initial_baseline(t, y, t_ref):
     return candidates[int(np.argmin(spread))]
 
 
+def _in_sigma(x, sigma) -> str:
+    """``x`` in units of σ for a message (a noise-free record has σ = 0)."""
+    return f"{float(x) / sigma:.3g} σ" if sigma > 0 else "σ = 0"
+
+
 def _runs(r, sigma, kk) -> list[_Run]:
-    """Every excursion of r beyond ±k·σ, widened while it stays beyond ±σ (same sign)."""
-    if not sigma > 0:
+    """Every excursion of r beyond ±k·σ, widened while it stays beyond ±σ (same sign).
+
+    A noise-free (or coarsely quantised) baseline has σ = 0: then every sample off it
+    counts."""
+    if not sigma >= 0:
         return []
     runs = []
     for sign in (1, -1):
@@ -640,7 +648,7 @@ def _choose(runs, r, sigma, kk, src) -> _Found | None:
             raise NoPulseError(
                 f"no contact pulse found, only {len(glitches)} spike(s) of at most "
                 f"{spike} samples (the largest {float(r[g.peak]):.4g} N at sample "
-                f"{g.peak}, {abs(r[g.peak]) / sigma:.3g} σ): a contact pulse lasts many "
+                f"{g.peak}, {_in_sigma(abs(r[g.peak]), sigma)}): a contact pulse lasts many "
                 "samples. Check the trigger and that the file holds the impact",
                 path=src,
             )
@@ -691,7 +699,7 @@ def _check_truncated(found, t, r, sigma, src):
     if found.a == 0:
         raise TruncatedPulseError(
             f"the record starts inside the contact pulse: Fn is already {float(r[0]):.4g} N "
-            f"({float(r[0]) / sigma:.3g} σ above the baseline) at the first sample "
+            f"({_in_sigma(r[0], sigma)} above the baseline) at the first sample "
             f"(t = {float(t[0]):.6g} s); the file was cut mid-pulse — export it again with "
             "more pre-trigger samples",
             path=src,
@@ -699,7 +707,7 @@ def _check_truncated(found, t, r, sigma, src):
     if found.b == n - 1:
         raise TruncatedPulseError(
             f"the contact pulse runs past the end of the record: Fn is still "
-            f"{float(r[-1]):.4g} N ({float(r[-1]) / sigma:.3g} σ above the baseline) at the "
+            f"{float(r[-1]):.4g} N ({_in_sigma(r[-1], sigma)} above the baseline) at the "
             f"last sample (t = {float(t[-1]):.6g} s); the file was cut mid-pulse — export it "
             "again with more post-trigger samples",
             path=src,

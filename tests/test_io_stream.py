@@ -111,3 +111,37 @@ def test_other_formats_are_loaded_whole_and_cut_alike(tmp_path):
     assert rec.sizes["time"] == load(sample).sizes["time"]  # short: nothing to cut
     with pytest.raises(InputError, match="margin must be a whole number of rows"):
         load_contact(_file(tmp_path), margin=10)
+
+
+@pytest.mark.parametrize(
+    "head,sep,dec,eol,bom",
+    [
+        ("# rig: pendulum\n# sample rate: 1 MHz\n", ",", ".", "\n", False),  # pandas skips
+        ('# note: a "quoted\n# rig: pendulum\n', ",", ".", "\r\n", True),  # via a file object
+        ("# rig: pendulum\n\n# gain: 2\n", ";", ",", "\n", False),  # blank line, comma
+    ],
+)
+def test_a_streamed_file_reads_as_the_same_bytes_in_memory(tmp_path, head, sep, dec, eol, bom):
+    """Over 1 MiB the body goes from disk to the parser; the record must be the one the
+    in-memory parse of the same bytes gives, to the bit (values, attributes, hash)."""
+    from pipeline.io.sensor import STREAM_BYTES, parse_sensor_bytes
+
+    rng = np.random.default_rng(7)
+    n = 40_000
+    x, y, z = rng.normal(0, 5, (3, n)) * [[1.0], [0.01], [1.0]]  # Fy: 0.2 % of Fz
+    rows = [f"{i},{a:.6f},{b:.6f},{c:.6f}" for i, a, b, c in zip(range(n), x, y, z, strict=True)]
+    rows[:100] = [f"{i},0,0,{i}" for i in range(100)]  # integers first: the decimal sniff
+    text = head.replace("\n", eol) + f"time [us]{sep}Fx [N]{sep}Fy [N]{sep}Fz [N]{eol}"
+    body = eol.join(rows) + eol
+    if sep != ",":
+        body = body.replace(",", "\x00").replace(".", dec).replace("\x00", sep)
+    data = (b"\xef\xbb\xbf" if bom else b"") + (text + body).encode()
+    assert len(data) > STREAM_BYTES
+    p = tmp_path / "big.csv"
+    p.write_bytes(data)
+    streamed = load(p)
+    import hashlib
+
+    in_memory = parse_sensor_bytes(data, p, hashlib.sha256(data).hexdigest())
+    assert streamed.identical(in_memory)
+    np.testing.assert_array_equal(streamed["time"].values, np.arange(n) * 1e-6)

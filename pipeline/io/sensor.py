@@ -313,6 +313,16 @@ def _sniff_decimal(sample: str, sep: str) -> str:
     return "," if "," in sample else "."
 
 
+class _Skip:
+    """The body of a file on disk: its first ``rows`` lines are the head."""
+
+    def __init__(self, path: Path, rows: int):
+        self.path, self.rows = path, rows
+
+    def close(self):
+        pass
+
+
 class _LazyText:
     """A UTF-8 body kept as bytes; decoded only when an error message needs its lines.
 
@@ -553,7 +563,12 @@ def parse_sensor_bytes(
         body = full_text[body_start:]
         body_source = io.StringIO(body)
     elif head_only:
-        body_source = open(p, "rb")  # closed after the parse below
+        # pandas reads the file itself, skipping the head's lines (faster than through a
+        # Python file object) — where a line of the head is a line to its tokenizer: no
+        # quote that could join lines, no blank line it would not count
+        lines = head.splitlines()
+        plain = '"' not in head and all(ln.strip() for ln in lines) and len(lines) == header_line
+        body_source = _Skip(p, header_line) if plain else open(p, "rb")  # noqa: SIM115
         body = _LazyText(raw, body_offset, p, header_line, head_only=True)
     else:
         # BytesIO over the bytes object shares its buffer: no copy of a large file.
@@ -619,13 +634,19 @@ def _parse_table(
     )
 
     def parse(decimal, chunksize=None):
-        body_source.seek(0 if full_text is not None else body_offset)
+        skip = {}
+        if isinstance(body_source, _Skip):
+            source, skip = str(body_source.path), {"skiprows": body_source.rows}
+        else:
+            source = body_source
+            body_source.seek(0 if full_text is not None else body_offset)
         with warnings.catch_warnings():
             # pandas only warns when every row has more fields than the header and then
             # drops data: make that an error
             warnings.simplefilter("error", pd.errors.ParserWarning)
             return pd.read_csv(
-                body_source,
+                source,
+                **skip,
                 sep=sep,
                 decimal=decimal,
                 header=None,
