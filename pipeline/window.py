@@ -80,7 +80,6 @@ F. R. Hampel, "The influence curve and its role in robust estimation", J. Am. St
 from __future__ import annotations
 
 import dataclasses
-import sys
 import warnings
 from dataclasses import dataclass, field
 
@@ -98,6 +97,7 @@ from .errors import (
     TriggerGlitchWarning,
     TruncatedPulseError,
 )
+from .io._common import caller_level
 from .record import FORCE_CHANNELS, KINDS, channel
 
 __all__ = [
@@ -768,7 +768,7 @@ def _report_events(found, t, r, src):
             f"({listing}): a rebound strike or a second impact; the analysis keeps to the "
             "first",
             MultipleImpactWarning,
-            stacklevel=_stacklevel(),
+            stacklevel=caller_level(__file__),
         )
     if found.glitches:
         g = found.glitches
@@ -779,13 +779,5 @@ def _report_events(found, t, r, src):
             f"{float(t[worst.peak]):.6g} s): a trigger glitch or an electrical spike; "
             "ignored",
             TriggerGlitchWarning,
-            stacklevel=_stacklevel(),
+            stacklevel=caller_level(__file__),
         )
-
-
-def _stacklevel() -> int:
-    """``stacklevel`` pointing a warning at the first frame outside this module."""
-    frame, level = sys._getframe(1), 1
-    while frame is not None and frame.f_code.co_filename == __file__:
-        frame, level = frame.f_back, level + 1
-    return level

@@ -249,8 +249,9 @@ def test_a_trigger_glitch_is_reported_and_ignored(spike):
     fn = rec["Fn"].values.copy()
     i = _index(rec, 0.5e-3)
     fn[i] += spike
-    with pytest.warns(TriggerGlitchWarning, match=r"1 spike\(s\).*ignored"):
+    with pytest.warns(TriggerGlitchWarning, match=r"1 spike\(s\).*ignored") as caught:
         w = find_contact(_with_fn(rec, fn))
+    assert caught[0].filename == __file__  # the caller's line, not one inside the window
     tol = end_tolerance(SIGMA_N)
     assert abs(w.t_start - clean.t_start) < tol and abs(w.t_end - clean.t_end) < tol
     assert w.noise["Fn"] == pytest.approx(clean.noise["Fn"], rel=0.02)

@@ -218,16 +218,20 @@ def check_plane(forces: dict, path) -> None:
             f"{100 * ratio:.1f} % of the normal peak |Fn| = {peak_n:.4g} N (> "
             f"{100 * PLANE_TOLERANCE:.0f} %); the plane-impact assumption is doubtful",
             PlaneImpactWarning,
-            stacklevel=_caller_level(),
+            stacklevel=caller_level(),
         )
 
 
-def _caller_level() -> int:
-    """``stacklevel`` that points a warning at the first frame outside pipeline.io (the
-    readers are reached through one to three calls: load → read_sensor → ...)."""
-    here = os.path.dirname(os.path.abspath(__file__))
+def caller_level(where=None) -> int:
+    """``stacklevel`` that points a warning at the first frame outside ``where`` (a folder,
+    or one module's file; default pipeline.io, whose readers are reached through one to
+    three calls: load → read_sensor → ...). Call it from the function that warns."""
+    where = os.path.dirname(os.path.abspath(__file__)) if where is None else str(where)
+    inside = (
+        (lambda f: f == where) if where.endswith(".py") else (lambda f: os.path.dirname(f) == where)
+    )
     frame, level = sys._getframe(1), 1  # the frame that calls warnings.warn
-    while frame is not None and os.path.dirname(frame.f_code.co_filename) == here:
+    while frame is not None and inside(frame.f_code.co_filename):
         frame, level = frame.f_back, level + 1
     return level
 

@@ -43,6 +43,7 @@ import warnings
 import numpy as np
 
 from ..errors import InputError, SampleRateWarning, UnitMismatchError
+from ._common import caller_level
 from .units import TIME_UNITS
 
 __all__ = ["parse_quantity", "scene_from_metadata", "check_sample_rate", "stated_sample_rate"]
@@ -288,7 +289,7 @@ def check_sample_rate(attrs, time, time_unit: str, path) -> None:
         f"{path}: the time column steps by {step:.4g} s (median) but the file states "
         f"'{text}', a step of {expected:.4g} s ({ratio:.3g} times); check the file",
         SampleRateWarning,
-        stacklevel=3,
+        stacklevel=caller_level(),
     )
 
 
