@@ -56,7 +56,7 @@ __all__ = [
     "LOAD_KEYS",
     "Findings",
     "findings",
-    "analyse_sample",
+    "check_and_analyse",
     "load_sample",
     "read_sidecar",
     "reproduce",
@@ -283,17 +283,26 @@ def _ingest_only(path: Path) -> dict:
     }
 
 
-def analyse_sample(path, scene: Scene, *, n_boot: int = 200, seed: int = 0, **load_options):
-    """One sample through the whole chain: load (sidecar options), plausibility, analyse.
+def check_and_analyse(record, scene: Scene, *, n_boot: int = 200, seed: int = 0):
+    """A record's plausibility checks against its scene, then its analysis: what
+    ``pipeline analyse`` and :func:`reproduce` run for each record.
 
     Returns
     -------
     (Analysis, Plausibility)
+
+    Raises
+    ------
+    InputError
+        The checks' errors (:func:`pipeline.window.find_contact`,
+        :func:`pipeline.plausibility.check_plausible`) before any physics, or analyse's.
     """
-    rec = load_sample(path, **load_options)
-    win = find_contact(rec)
-    checks = check_plausible(rec, scene, window=win)
-    return analyse(rec, scene, n_boot=n_boot, seed=seed), checks
+    checks = check_plausible(record, scene, window=find_contact(record))
+    return analyse(record, scene, n_boot=n_boot, seed=seed), checks
+
+
+def _analyse_sample(path, scene, n_boot, seed):
+    return check_and_analyse(load_sample(path), scene, n_boot=n_boot, seed=seed)
 
 
 def _one(path: Path, n_boot: int, seed: int):
@@ -308,7 +317,7 @@ def _one(path: Path, n_boot: int, seed: int):
             entry, msgs = _quiet(_ingest_only, path)
             a = None
         else:
-            (a, checks), msgs = _quiet(analyse_sample, path, scene, n_boot=n_boot, seed=seed)
+            (a, checks), msgs = _quiet(_analyse_sample, path, scene, n_boot, seed)
             entry = {
                 "file": path.name,
                 **a.summary(),

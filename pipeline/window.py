@@ -562,9 +562,8 @@ class _Found:
 
     a: int
     b: int
-    others: tuple = ()  # later (or earlier) positive pulses: impacts, reported
+    others: tuple = ()  # later positive pulses: further impacts, reported
     glitches: tuple = ()  # spikes: reported
-    ignored: tuple = ()  # negative excursions, minor pulses (a misfit baseline's too)
     split: int | None = None  # index of the dip where a second impact was cut off
 
     @property
@@ -665,13 +664,12 @@ def _choose(runs, r, sigma, kk, src) -> _Found | None:
     major = [run for run in pulses if run.sign > 0 and r[run.peak] >= MINOR_PULSE * top]
     main = major[0]
     others = [run for run in major[1:]]
-    ignored = [run for run in pulses if run not in major]
     a, b, split = main.a, main.b, _dip(r, main, sigma, kk)
     if split is not None:
         rest = _Run(split, main.b, 1, split + int(np.argmax(r[split : main.b + 1])), 0)
         others.insert(0, rest)
         b = split - 1
-    return _Found(a, b, tuple(others), tuple(glitches), tuple(ignored), split)
+    return _Found(a, b, tuple(others), tuple(glitches), split)
 
 
 def _dip(r, run, sigma, kk) -> int | None:

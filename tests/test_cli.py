@@ -127,12 +127,12 @@ def test_every_bad_argument_is_one_line_and_exit_2(capsys, argv, fragment):
 
 
 def test_an_internal_error_is_one_line_and_exit_3(capsys, monkeypatch):
-    import pipeline
+    import pipeline.report
 
     def broken(*args, **kwargs):
         raise ZeroDivisionError("a bug")
 
-    monkeypatch.setattr(pipeline, "analyse", broken)
+    monkeypatch.setattr(pipeline.report, "analyse", broken)
     code, _, err = _run(capsys, "analyse", MAIN, "--boot", 0)
     assert code == 3
     assert (

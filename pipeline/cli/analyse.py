@@ -28,15 +28,12 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    from .. import analyse
-    from ..plausibility import check_plausible
-    from ..window import find_contact
+    from ..report import check_and_analyse
 
     record = read_record(args.file, args)
     scene, sources = read_scene(args.file, args.scene, record)
     with log_warnings():
-        checks = check_plausible(record, scene, window=find_contact(record))
-        a = analyse(record, scene, n_boot=args.boot, seed=args.seed)
+        a, checks = check_and_analyse(record, scene, n_boot=args.boot, seed=args.seed)
     out = {**a.summary(), "scene_sources": sources, "plausibility": checks.summary()}
     print(json.dumps(out, indent=1, allow_nan=False))  # strict JSON already
     return 0
