@@ -64,6 +64,7 @@ class BackgroundHash:
     def __init__(self, source):
         self._digest = None
         self._error = None
+        self._path = None if isinstance(source, bytes | bytearray | memoryview) else source
         self._thread = threading.Thread(target=self._run, args=(source,), daemon=True)
         self._thread.start()
 
@@ -80,7 +81,7 @@ class BackgroundHash:
     def hexdigest(self) -> str:
         self._thread.join()
         if self._error is not None:
-            raise InputError(f"cannot read the file ({self._error})", path=None)
+            raise InputError(f"cannot read the file ({self._error})", path=self._path)
         return self._digest
 
 
