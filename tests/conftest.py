@@ -30,6 +30,7 @@ def _outcome_table_cache(tmp_path_factory):
     else:
         os.environ["PIPELINE_CACHE"] = old
 
+
 settings.register_profile("ci", derandomize=True, database=None, print_blob=True)
 settings.register_profile("fuzz", parent=settings.get_profile("ci"), max_examples=500)
 if os.environ.get("CI"):
