@@ -8,7 +8,7 @@ export OPENBLAS_NUM_THREADS := 1
 export OMP_NUM_THREADS := 1
 export MPLBACKEND := Agg
 
-.PHONY: all venv test test-narrow-simd reproduce bench data lint clean
+.PHONY: all venv test test-narrow-simd test-fuzz reproduce bench data lint clean
 
 all: test
 
@@ -28,7 +28,12 @@ test: $(STAMP)
 test-narrow-simd: $(STAMP)
 	@feats="$$($(PY) scripts/simd_features.py)"; echo "NPY_DISABLE_CPU_FEATURES=$$feats"; \
 	NPY_DISABLE_CPU_FEATURES="$$feats" MPLCONFIGDIR=$$(mktemp -d) $(PY) -m pytest -q \
-	  --ignore=tests/test_io_fuzz.py --ignore=tests/test_docs.py
+	  --ignore=tests/test_io_fuzz.py --ignore=tests/test_docs.py --ignore=tests/test_kill.py
+
+# The property tests of every reader and the scene parser under the "fuzz" profile
+# (tests/conftest.py): over 10,000 examples, about a minute.
+test-fuzz: $(STAMP)
+	HYPOTHESIS_PROFILE=fuzz MPLCONFIGDIR=$$(mktemp -d) $(PY) -m pytest -q tests/test_io_fuzz.py
 
 reproduce: $(STAMP)
 	MPLCONFIGDIR=$$(mktemp -d) $(PY) -m pipeline.cli reproduce --samples data_samples --out build/reproduce

@@ -48,3 +48,90 @@ class PoorFitWarning(PipelineWarning):
 
 class PlaneImpactWarning(PipelineWarning):
     """The record casts doubt on the plane-impact assumption (large out-of-plane force)."""
+
+
+# ------------------------------------------------------------ plausibility before physics
+# Each check of a record a careful experimentalist would make has its own class, so a user
+# can catch or filter exactly one kind. Errors where the record cannot give a right answer
+# (a clipped peak, a pulse cut by the file's end, a unit off by 10³); warnings where the
+# analysis goes on, on the part of the record it can trust (the first of two impacts, a
+# record with one spike before the trigger). pipeline.window and pipeline.plausibility
+# say which check raises which, with the number that tripped it.
+__all__ += [
+    "NoPulseError",
+    "TruncatedPulseError",
+    "SignFlipError",
+    "ClippedSignalError",
+    "UnitMismatchError",
+    "PlausibilityWarning",
+    "MultipleImpactWarning",
+    "TriggerGlitchWarning",
+    "SampleRateWarning",
+    "ContactTimeWarning",
+    "PeakForceWarning",
+    "ImpulseWarning",
+]
+
+
+class NoPulseError(InputError):
+    """No contact pulse stands above the record's noise."""
+
+
+class TruncatedPulseError(InputError):
+    """The contact pulse runs past the start or the end of the record (the file was cut
+    mid-pulse)."""
+
+
+class SignFlipError(InputError):
+    """The normal force is a tensile (negative) pulse: the channel's sign is flipped."""
+
+
+class ClippedSignalError(InputError):
+    """A force channel sits at its maximum for several samples: the ADC saturated."""
+
+
+class UnitMismatchError(InputError):
+    """A quantity is off from what the scene or the file states by a unit factor
+    (10³, 10⁶...): the unit written in the file, or passed, is not the unit of the values.
+
+    Attributes
+    ----------
+    quantity : str — ``"time"`` or ``"force"``
+    ratio : float — measured over expected [-]
+    suggested : str or None — the unit the values fit, where one does
+    """
+
+    def __init__(self, message, *, quantity, ratio, suggested=None, **where):
+        super().__init__(message, **where)
+        self.quantity = quantity
+        self.ratio = ratio
+        self.suggested = suggested
+
+
+class PlausibilityWarning(PipelineWarning):
+    """Base class of the warnings of the plausibility checks."""
+
+
+class MultipleImpactWarning(PlausibilityWarning):
+    """A second pulse inside or after the contact window (a rebound strike); the analysis
+    keeps to the first."""
+
+
+class TriggerGlitchWarning(PlausibilityWarning):
+    """A spike of one to three samples outside the contact pulse; it is ignored."""
+
+
+class SampleRateWarning(PlausibilityWarning):
+    """The sample rate stated in the file disagrees with its time column."""
+
+
+class ContactTimeWarning(PlausibilityWarning):
+    """The contact lasts much longer or shorter than Hertz theory predicts for the scene."""
+
+
+class PeakForceWarning(PlausibilityWarning):
+    """The peak normal force is far from Hertz theory's for the scene."""
+
+
+class ImpulseWarning(PlausibilityWarning):
+    """The normal impulse is outside m*·v_n0·[1, 2], the range e ∈ [0, 1] allows."""

@@ -27,10 +27,27 @@ import xarray as xr
 
 from .errors import InputError
 
-__all__ = ["make_record", "validate", "channel", "FORCE_CHANNELS", "KINDS"]
+__all__ = [
+    "make_record",
+    "validate",
+    "channel",
+    "FORCE_CHANNELS",
+    "KINDS",
+    "FORCE_RANGE",
+    "TIME_RANGE",
+]
 
 FORCE_CHANNELS = ("Fn", "Ft", "Fy")
 KINDS = ("sensor", "digitised", "simulated")
+
+#: Range of a record's largest |force| [N] (a record of zeros excepted). Far beyond any
+#: sensor (atomic-force microscopes resolve ~1e-12 N, crash rigs measure ~1e7 N), and far
+#: inside the floats: squares, sums over 10⁸ samples and products with times stay finite
+#: and normal, so nothing later overflows to inf or underflows to 0.
+FORCE_RANGE = (1e-20, 1e20)
+#: Range of a record's time steps and instants [s]: the smallest step at least 1e-20 s
+#: (no digitiser samples faster than ~1e-11 s), no instant beyond ±1e20 s.
+TIME_RANGE = (1e-20, 1e20)
 
 _LONG_NAMES = {
     "Fn": "normal force (compressive > 0)",
@@ -114,8 +131,12 @@ def validate(record: xr.Dataset) -> xr.Dataset:
     """Check a record's invariants; return it unchanged or raise :class:`InputError`.
 
     Checks: a ``time`` coordinate in seconds, finite and strictly increasing, with at least
-    two samples; an ``Fn`` variable; every force variable in newtons and finite wherever it
-    was measured; the ``source``, ``sha256`` and ``format`` attributes present.
+    two samples, steps and instants within :data:`TIME_RANGE`; an ``Fn`` variable; every
+    force variable in newtons, finite wherever it was measured, its largest magnitude zero
+    or within :data:`FORCE_RANGE`; the ``source``, ``sha256`` and ``format`` attributes
+    present. The two ranges keep every later stage inside the floats: a file whose forces
+    are 1e300 N or whose time steps are 1e-300 s (a unit gone wrong) is refused here, never
+    turned into an inf or a 0 further down.
     """
     src = record.attrs.get("source", "<record>")
     if "time" not in record.coords:
@@ -135,6 +156,15 @@ def validate(record: xr.Dataset) -> xr.Dataset:
             f"({t[i]!r} s then {t[i + 1]!r} s); sort or de-duplicate the samples",
             path=src,
         )
+    if steps.min() < TIME_RANGE[0] or max(abs(t[0]), abs(t[-1])) > TIME_RANGE[1]:
+        i = int(np.argmin(steps))
+        raise InputError(
+            f"time steps of {steps[i]:.3g} s (samples {i} to {i + 1}) over instants up to "
+            f"{max(abs(t[0]), abs(t[-1])):.3g} s lie outside what any digitiser records "
+            f"(steps ≥ {TIME_RANGE[0]:g} s, instants within ±{TIME_RANGE[1]:g} s): the "
+            "time unit is wrong; correct it in the file's header or with time_unit=",
+            path=src,
+        )
     if "Fn" not in record:
         raise InputError("record has no normal-force channel 'Fn'", path=src)
     for name in FORCE_CHANNELS:
@@ -149,6 +179,14 @@ def validate(record: xr.Dataset) -> xr.Dataset:
             raise InputError(
                 f"{name} has {int(bad.sum())} NaN or infinite values (first at measured "
                 f"sample {int(np.argmax(bad))}); remove or repair those samples",
+                path=src,
+            )
+        peak = float(np.max(np.abs(values))) if values.size else 0.0
+        if peak != 0.0 and not FORCE_RANGE[0] <= peak <= FORCE_RANGE[1]:
+            raise InputError(
+                f"{name} peaks at |{name}| = {peak:.3g} N, outside what any force sensor "
+                f"measures ({FORCE_RANGE[0]:g} to {FORCE_RANGE[1]:g} N); the force unit or "
+                "scale is wrong: correct it in the file's header or with force_unit=",
                 path=src,
             )
     for key in ("source", "sha256", "format"):

@@ -19,15 +19,21 @@ bootstrap standard deviations σ):
   :data:`NEAR_ZERO` by more than 3σ;
 - finding 3 holds when ``Pt_drop`` exceeds :data:`NEAR_ZERO` by more than 3σ.
 
-Outputs are written atomically (temporary file, then rename), so an interrupted run never
-leaves a half-written file.
+A record that fails is listed with its reason (``summary.json``: ``status``, ``error``;
+``report.md``: "Failed records") and the others go on. The whole output folder is
+replaced in one rename (staging folder, :func:`pipeline._atomic.atomic_dir`), so an
+interrupted run leaves the previous run complete, never a mix of two.
 """
 
 from __future__ import annotations
 
+import contextlib
+import difflib
+import hashlib
 import json
 import logging
 import math
+import uuid
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
@@ -35,24 +41,29 @@ from pathlib import Path
 import numpy as np
 
 from . import figures
-from ._atomic import atomic_write_text
+from ._atomic import atomic_dir, atomic_write_text, clean_stale
 from ._json import json_ready
 from .analysis import Analysis, analyse
-from .errors import InputError, PipelineWarning
-from .io import load
+from .errors import InputError
+from .io import load, load_contact, read_json
 from .percussion import compression_split, percussions
+from .plausibility import check_plausible
 from .scene import Scene
 from .window import find_contact
 
 __all__ = [
     "NEAR_ZERO",
+    "LOAD_KEYS",
     "Findings",
     "findings",
+    "check_and_analyse",
     "load_sample",
     "read_sidecar",
     "reproduce",
     "sample_files",
     "scene_from_sidecar",
+    "sidecar_path",
+    "write_manifest",
 ]
 
 log = logging.getLogger(__name__)
@@ -130,22 +141,60 @@ def findings(a: Analysis) -> Findings:
 
 
 # --------------------------------------------------------------------------- I/O helpers
+#: Keys a sidecar's ``"load"`` block may hold: :func:`pipeline.io.load`'s options, and
+#: ``"paths"`` ({channel: file}) to combine files of the same folder.
+LOAD_KEYS = ("paths", "time_unit", "force_unit", "axes", "channels", "decouple")
+
+
+def sidecar_path(path) -> Path:
+    """The JSON sidecar of a record: ``<stem>.json`` beside it."""
+    return Path(path).with_suffix(".json")
+
+
 def read_sidecar(path) -> dict:
     """The JSON sidecar ``<stem>.json`` of a sample ({} without one).
 
     Keys used here: ``"scene"`` (Scene fields, SI; ``"inf"`` allowed) and ``"load"``
-    (keyword arguments of :func:`pipeline.io.load`; ``"paths"`` — ``{channel: file}`` —
-    combines several files of the same folder into one record).
+    (keyword arguments of :func:`pipeline.io.load`, see :data:`LOAD_KEYS`; ``"paths"`` —
+    ``{channel: file}`` — combines several files of the same folder into one record).
+
+    Raises
+    ------
+    InputError
+        Naming the sidecar: a directory, unreadable, not UTF-8, malformed JSON, not an
+        object, or a ``"load"`` block that is not an object of known options.
     """
-    side = Path(path).with_suffix(".json")
-    if not side.exists():
+    side = sidecar_path(path)
+    if not side.exists() and not side.is_symlink():
         return {}
-    try:
-        data = json.loads(side.read_text(encoding="utf-8"))
-    except (ValueError, UnicodeDecodeError) as exc:
-        raise InputError(f"sidecar is not valid JSON: {exc}", path=side) from exc
-    if not isinstance(data, dict):
-        raise InputError("sidecar must hold a JSON object", path=side)
+    data = read_json(side, what="sidecar")
+    block = data.get("load", {})
+    if not isinstance(block, dict):
+        raise InputError(
+            f"'load' must be an object of pipeline.io.load options ({', '.join(LOAD_KEYS)}), "
+            f"not {block!r}",
+            path=side,
+        )
+    allowed = LOAD_KEYS + Scene.field_names()
+    for key in block:
+        if key not in allowed:
+            close = difflib.get_close_matches(key, allowed, n=1)
+            raise InputError(
+                f"unknown 'load' option {key!r}"
+                + (f" (did you mean {close[0]!r}?)" if close else "")
+                + f"; the options are {', '.join(LOAD_KEYS)} and scene fields",
+                path=side,
+            )
+    paths = block.get("paths")
+    if paths is not None and (
+        not isinstance(paths, dict)
+        or not all(isinstance(k, str) and isinstance(v, str) for k, v in paths.items())
+    ):
+        raise InputError(
+            f"'load' → 'paths' must map channels to file names, e.g. "
+            f'{{"Fn": "fn.csv", "Ft": "ft.csv"}}, not {paths!r}',
+            path=side,
+        )
     return data
 
 
@@ -154,44 +203,63 @@ def scene_from_sidecar(path) -> Scene | None:
     data = read_sidecar(path)
     if "scene" not in data:
         return None
-    return Scene.from_dict(data["scene"], path=Path(path).with_suffix(".json"))
+    return Scene.from_dict(data["scene"], path=sidecar_path(path))
 
 
-def load_sample(path):
-    """Load a sample as its sidecar says (combining files where ``"paths"`` is given)."""
+def load_sample(path, *, contact_only: bool = False, **options):
+    """Load a record as its sidecar's ``"load"`` block says (combining files where
+    ``"paths"`` is given); ``options`` (:func:`pipeline.io.load` keywords that are not
+    None) override the block's. ``contact_only``: keep only the first contact and its
+    margins (:func:`pipeline.io.load_contact`, bounded memory for a large file).
+
+    A bad option from the sidecar is reported with the sidecar named beside the record.
+    """
     path = Path(path)
-    kwargs = dict(read_sidecar(path).get("load", {}))
+    block = dict(read_sidecar(path).get("load", {}))
+    given = {k: v for k, v in options.items() if v is not None}
+    kwargs = {**block, **given}
     paths = kwargs.pop("paths", None)
-    if paths is not None:
-        return load({ch: path.parent / p for ch, p in paths.items()}, **kwargs)
-    return load(path, **kwargs)
+    target = path if paths is None else {ch: path.parent / p for ch, p in paths.items()}
+    try:
+        if contact_only and paths is None:
+            return load_contact(target, **kwargs)
+        return load(target, **kwargs)
+    except InputError as exc:
+        from_side = sorted(k for k in block if k not in given)
+        if not from_side:
+            raise
+        raise type(exc)(
+            f"{exc.reason} (load options {', '.join(from_side)} from {sidecar_path(path).name})",
+            path=exc.path,
+            line=exc.line,
+            column=exc.column,
+        ) from exc
 
 
 def sample_files(samples) -> list[Path]:
     """The records of a sample folder: data files, less those another sidecar combines."""
     samples = Path(samples)
+    if not samples.is_dir():
+        raise InputError("no such folder of samples; check the path", path=samples)
     files = sorted(
         p
         for p in samples.iterdir()
-        if p.suffix.lower() in (".csv", ".tdms") and not p.name.startswith(".")
+        if p.suffix.lower() in (".csv", ".tdms") and not p.name.startswith(".") and p.is_file()
     )
     parts = set()
     for p in files:
-        paths = read_sidecar(p).get("load", {}).get("paths", {})
-        parts |= {q for q in paths.values() if q != p.name}
+        with contextlib.suppress(InputError):  # a bad sidecar fails its own record later
+            paths = read_sidecar(p).get("load", {}).get("paths", {})
+            parts |= {q for q in paths.values() if q != p.name}
     return [p for p in files if p.name not in parts]
 
 
 def _quiet(fn, *args, **kwargs):
-    """Call fn, logging (not raising) the pipeline's warnings; return (result, warnings)."""
+    """Call fn, collecting (not raising) its warnings; return (result, messages)."""
     with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always", PipelineWarning)
+        warnings.simplefilter("always")
         out = fn(*args, **kwargs)
-    msgs = [
-        f"{w.category.__name__}: {w.message}"
-        for w in caught
-        if issubclass(w.category, PipelineWarning)
-    ]
+    msgs = list(dict.fromkeys(f"{w.category.__name__}: {w.message}" for w in caught))
     for m in msgs:
         log.info("%s", m)
     return out, msgs
@@ -215,6 +283,60 @@ def _ingest_only(path: Path) -> dict:
     }
 
 
+def check_and_analyse(record, scene: Scene, *, n_boot: int = 200, seed: int = 0):
+    """A record's plausibility checks against its scene, then its analysis: what
+    ``pipeline analyse`` and :func:`reproduce` run for each record.
+
+    Returns
+    -------
+    (Analysis, Plausibility)
+
+    Raises
+    ------
+    InputError
+        The checks' errors (:func:`pipeline.window.find_contact`,
+        :func:`pipeline.plausibility.check_plausible`) before any physics, or analyse's.
+    """
+    checks = check_plausible(record, scene, window=find_contact(record))
+    return analyse(record, scene, n_boot=n_boot, seed=seed), checks
+
+
+def _analyse_sample(path, scene, n_boot, seed):
+    return check_and_analyse(load_sample(path), scene, n_boot=n_boot, seed=seed)
+
+
+def _one(path: Path, n_boot: int, seed: int):
+    """The summary entry of one sample, and its Analysis (None when ingested only).
+
+    Every failure is caught — a bad file (InputError), a bug (any other exception) — and
+    becomes the entry's ``status``/``error``: one record never stops a batch.
+    """
+    try:
+        scene = scene_from_sidecar(path)
+        if scene is None:
+            entry, msgs = _quiet(_ingest_only, path)
+            a = None
+        else:
+            (a, checks), msgs = _quiet(_analyse_sample, path, scene, n_boot, seed)
+            entry = {
+                "file": path.name,
+                **a.summary(),
+                "plausibility": checks.summary(),
+                "findings": findings(a).summary(),
+            }
+        entry = {"status": "ok", **entry, "warnings": msgs}
+        return entry, a
+    except Exception as exc:  # reported, and the batch goes on
+        kind = "bad input" if isinstance(exc, InputError | OSError) else "internal error"
+        log.warning("%s failed (%s): %s", path.name, kind, exc)
+        return {
+            "file": path.name,
+            "status": "failed",
+            "error": f"{type(exc).__name__}: {exc}",
+            "error_kind": kind,
+        }, None
+
+
 # --------------------------------------------------------------------------- the main job
 def reproduce(
     samples="data_samples",
@@ -232,7 +354,9 @@ def reproduce(
         Folder of sample records (``*.csv``, ``*.tdms``; ``*.json`` are sidecars).
     out : path
         Output folder: ``fig4_percussion_plane.png``, ``fig6_disc_velocity.png``,
-        ``fig8_forces.png``, ``fig9_percussion_plane.png``, ``summary.json``, ``report.md``.
+        ``fig8_forces.png``, ``fig9_percussion_plane.png`` (when the main record was
+        analysed), ``summary.json``, ``report.md`` and ``manifest.json`` (every file's
+        SHA-256 and the run's settings).
     main : str
         File name of the record the figures and findings are made for.
     n_boot, seed : int
@@ -241,49 +365,111 @@ def reproduce(
     Returns
     -------
     dict
-        The summary written to ``summary.json``. A record that fails is reported there
-        (``error``) and the run goes on.
+        The summary written to ``summary.json``: ``records`` (one entry per sample, with
+        ``status`` ``"ok"`` or ``"failed"`` and, for a failure, its ``error``),
+        ``failures`` (file → error) and ``n_failed``.
+
+    Notes
+    -----
+    A record that fails — for any reason, bad input or a bug — is listed with its reason
+    and the others go on. The outputs are written into a staging folder that replaces
+    ``out`` in one rename (:func:`pipeline._atomic.atomic_dir`): ``out`` holds the
+    previous run or this one, never a mix, and a killed run's staging folder is removed
+    by the next run.
+
+    Raises
+    ------
+    InputError
+        No sample folder, or no records in it.
     """
     samples, out = Path(samples), Path(out)
     files = sample_files(samples)
     if not files:
         raise InputError(f"no sample records (*.csv, *.tdms) in {samples}")
+    clean_stale(out)  # a killed run's staging folder goes now, not only when this one ends
     records, analyses = [], {}
     for path in files:
-        try:
-            scene = scene_from_sidecar(path)
-            if scene is None:
-                entry, msgs = _quiet(_ingest_only, path)
-            else:
-                rec, msgs0 = _quiet(load_sample, path)
-                a, msgs = _quiet(analyse, rec, scene, n_boot=n_boot, seed=seed)
-                msgs = msgs0 + msgs
-                analyses[path.name] = a
-                entry = {"file": path.name, **a.summary(), "findings": findings(a).summary()}
-            entry["warnings"] = msgs
-        except (InputError, OSError) as exc:
-            log.warning("%s failed: %s", path.name, exc)
-            entry = {"file": path.name, "error": str(exc)}
+        entry, a = _one(path, n_boot, seed)
         records.append(entry)
-    if main not in analyses:
-        raise InputError(f"the main record {main!r} was not analysed", path=samples / main)
-    a = analyses[main]
-    out.mkdir(parents=True, exist_ok=True)
-    figs = {
-        "fig4_percussion_plane.png": figures.fig4_percussion_plane(),
-        "fig6_disc_velocity.png": figures.fig6_disc_velocity(),
-        "fig8_forces.png": figures.fig8_forces(a),
-        "fig9_percussion_plane.png": figures.fig9_percussion_plane(a),
+        if a is not None:
+            analyses[path.name] = a
+    a = analyses.get(main)
+    f = None if a is None else findings(a)
+    failures = {r["file"]: r["error"] for r in records if r["status"] == "failed"}
+    if a is None and main not in failures:
+        failures[main] = "the main record is not among the samples, or has no scene"
+    summary = {
+        "main": main,
+        "near_zero": NEAR_ZERO,
+        "findings": None if f is None else f.summary(),
+        "n_records": len(records),
+        "n_failed": sum(r["status"] == "failed" for r in records),
+        "failures": failures,
+        "records": records,
     }
-    for name, fig in figs.items():
-        figures.save(fig, out / name)
-    f = findings(a)
-    summary = {"main": main, "near_zero": NEAR_ZERO, "findings": f.summary(), "records": records}
-    atomic_write_text(
-        out / "summary.json", json.dumps(json_ready(summary), indent=1, allow_nan=False) + "\n"
-    )
-    atomic_write_text(out / "report.md", _report_md(main, a, f, records, analyses))
+    with atomic_dir(out) as stage:
+        if a is not None:
+            figs = {
+                "fig4_percussion_plane.png": figures.fig4_percussion_plane(),
+                "fig6_disc_velocity.png": figures.fig6_disc_velocity(),
+                "fig8_forces.png": figures.fig8_forces(a),
+                "fig9_percussion_plane.png": figures.fig9_percussion_plane(a),
+            }
+            for name, fig in figs.items():
+                figures.save(fig, stage / name)
+        atomic_write_text(
+            stage / "summary.json",
+            json.dumps(json_ready(summary), indent=1, allow_nan=False) + "\n",
+        )
+        text = (
+            _report_md(main, a, f, records, analyses)
+            if a is not None
+            else _failed_report_md(main, failures, records)
+        )
+        atomic_write_text(stage / "report.md", text)
+        write_manifest(stage, samples=str(samples), main=main, n_boot=n_boot, seed=seed)
     return json_ready(summary)
+
+
+def write_manifest(folder, **settings) -> Path:
+    """Write ``manifest.json``: every other file's SHA-256 and size, and the run's settings.
+
+    A reader (or a test) can tell a complete run from a damaged one: the folder holds
+    exactly the files listed, each with its hash.
+    """
+    folder = Path(folder)
+    files = {}
+    for p in sorted(folder.iterdir()):
+        if p.name == "manifest.json" or not p.is_file():
+            continue
+        files[p.name] = {
+            "sha256": hashlib.sha256(p.read_bytes()).hexdigest(),
+            "bytes": p.stat().st_size,
+        }
+    manifest = {"run_id": uuid.uuid4().hex, "settings": settings, "files": files}
+    return atomic_write_text(folder / "manifest.json", json.dumps(manifest, indent=1) + "\n")
+
+
+def _failure_lines(records) -> list[str]:
+    failed = [r for r in records if r["status"] == "failed"]
+    if not failed:
+        return []
+    lines = ["", "## Failed records", ""]
+    lines += [f"- `{r['file']}` ({r['error_kind']}): {r['error']}" for r in failed]
+    return lines
+
+
+def _failed_report_md(main, failures, records) -> str:
+    lines = [
+        "# Rigid versus deformable: the seed's verdict, measured",
+        "",
+        f"The main record `{main}` could not be analysed, so there are no figures and no "
+        f"verdict: {failures.get(main, 'see below')}.",
+        "",
+        f"{sum(r['status'] == 'ok' for r in records)} of {len(records)} records were "
+        "processed; every number is in `summary.json`.",
+    ]
+    return "\n".join(lines + _failure_lines(records)) + "\n"
 
 
 def _report_md(main, a: Analysis, f: Findings, records, analyses) -> str:
@@ -332,7 +518,7 @@ def _report_md(main, a: Analysis, f: Findings, records, analyses) -> str:
     ]
     for r in records:
         name = r["file"]
-        if "error" in r:
+        if r["status"] == "failed":
             lines.append(f"| {name} | failed: {r['error']} |  |  |  |  |  |  |")
         elif name in analyses:
             x = analyses[name]
@@ -353,6 +539,5 @@ def _report_md(main, a: Analysis, f: Findings, records, analyses) -> str:
         "Figures: `fig4_percussion_plane.png` (seed Fig. 4), `fig6_disc_velocity.png` "
         "(analogue of seed Fig. 6), `fig8_forces.png` (seed Fig. 8), "
         "`fig9_percussion_plane.png` (seed Fig. 9). Every number is in `summary.json`.",
-        "",
     ]
-    return "\n".join(lines)
+    return "\n".join(lines + _failure_lines(records)) + "\n"

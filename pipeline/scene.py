@@ -30,7 +30,7 @@ import numpy as np
 
 from .errors import InputError
 
-__all__ = ["Scene"]
+__all__ = ["Scene", "read_scene_fields"]
 
 _INF = math.inf
 
@@ -293,8 +293,46 @@ class Scene:
             raise InputError(exc.reason, path=path) from None
 
     @classmethod
+    def from_file(cls, path) -> Scene:
+        """Read a scene from a JSON file (see :func:`read_scene_fields`).
+
+        Raises
+        ------
+        InputError
+            Naming the file: unreadable, not UTF-8, malformed JSON, not an object, an
+            unknown or missing field, a value that is not a number.
+        """
+        return cls.from_dict(read_scene_fields(path), path=path)
+
+    @classmethod
     def field_names(cls) -> tuple[str, ...]:
         return tuple(f.name for f in dataclasses.fields(cls))
+
+
+def read_scene_fields(path) -> dict:
+    """The scene fields a JSON file gives, not yet validated as a Scene.
+
+    The file holds either the fields themselves (``{"radius": 0.0127, "speed": 0.6, ...}``)
+    or a sample sidecar whose ``"scene"`` object holds them (other keys of a sidecar are
+    left to their readers).
+
+    Raises
+    ------
+    InputError
+        Naming the file: missing, a directory, not UTF-8, malformed JSON, not an object, or
+        a ``"scene"`` key that is not an object.
+    """
+    from .io import read_json
+
+    data = read_json(path, what="scene file")
+    if "scene" in data:
+        data = data["scene"]
+        if not isinstance(data, Mapping):
+            raise InputError(
+                f"'scene' must be an object of scene fields, not a {type(data).__name__}",
+                path=path,
+            )
+    return dict(data)
 
 
 #: Fields without which there is no scene.

@@ -7,24 +7,56 @@ baseline from every force channel and reports the noise it measured.
 Sensor records (``kind="sensor"``), per :func:`find_contact`:
 
 1. **Initial baseline.** The line through the medians of the first and last 10 % of the
-   record (pre- and post-trigger samples are baseline).
+   record (pre- and post-trigger samples are baseline) — or the median of one end alone,
+   when that leaves the record's samples closer to it (the other end lies inside a pulse
+   the file cuts; see :func:`_initial_baseline`).
 2. **Noise.** Residuals :math:`r = F_n - b(t)`; the noise level is the normalised median
    absolute deviation :math:`\hat\sigma = 1.4826\,\mathrm{median}|r - \mathrm{median}\,r|`
    over the samples currently taken as baseline (robust: the pulse does not inflate it).
-3. **Detection.** Contact is where :math:`|r| > k\hat\sigma`. The default threshold is a
+3. **Detection.** Excursions are where :math:`|r| > k\hat\sigma`, each widened to the
+   stretch where it stays beyond :math:`\pm\hat\sigma`. The default threshold is a
    Bonferroni bound: :math:`k = \Phi^{-1}(1 - \alpha/(2n))` for :math:`n` samples and a
    false-alarm probability :math:`\alpha = 10^{-3}` for the whole record, so pure white
    Gaussian noise exceeds it anywhere in the record with probability ≈ α
-   (:math:`k \approx 5.3` for 5 000 samples, 5.8 for 10⁵). The contact is the run of
-   samples above threshold that holds the largest :math:`|r|`.
-4. **Ends.** The run is extended outward while :math:`r > \hat\sigma`; each end is then
-   the zero crossing of :math:`r` (the pulse starts and ends at zero force), linearly
-   interpolated between the last sample above :math:`\hat\sigma` and its outward
-   neighbour, or that neighbour's instant when it lies in :math:`(0, \hat\sigma]`
-   (see :func:`_ends` for why σ and not 0).
+   (:math:`k \approx 5.3` for 5 000 samples, 5.8 for 10⁵). An excursion of at most
+   :data:`GLITCH_SAMPLES` samples is a *spike*; a longer one with at least two samples
+   above threshold is a *pulse*. The contact is the **first** positive pulse at least
+   :data:`MINOR_PULSE` of the largest.
+4. **Ends.** Each end is the zero crossing of :math:`r` (the pulse starts and ends at zero
+   force), linearly interpolated between the last sample above :math:`\hat\sigma` and
+   its outward neighbour, or that neighbour's instant when it lies in
+   :math:`(0, \hat\sigma]` (see :func:`_ends` for why σ and not 0).
 5. **Refit.** The baseline :math:`b(t) = a + s\,(t - t_{ref})` is refitted by least squares
    to the samples outside the window widened by ``guard``·duration on each side (ringing
-   after the pulse is kept out); steps 2–5 repeat until the window no longer changes.
+   after the pulse is kept out), and outside the other impacts and the spikes; steps 2–5
+   repeat until the window no longer changes.
+
+Plausibility checks on the way, each with the number that tripped it (the typed errors and
+warnings of :mod:`pipeline.errors`):
+
+=================================  ==========================  ===============================
+what                               how it shows                outcome
+=================================  ==========================  ===============================
+nothing above the noise            no pulse, or spikes only    :class:`NoPulseError`
+pulse cut by the file's start/end  the pulse reaches the first :class:`TruncatedPulseError`
+                                   or last sample
+sign-flipped normal channel        the largest pulse is        :class:`SignFlipError`
+                                   negative
+clipping (ADC saturation)          a flat run at Fn's or Ft's  :class:`ClippedSignalError`
+                                   extreme inside the pulse
+two impacts                        a later pulse ≥ 5 % of the  :class:`MultipleImpactWarning`;
+                                   first, or a dip inside the  the window keeps to the first
+                                   pulse to half its humps     (it ends at the dip)
+trigger glitch                     a spike > 2·k·σ away from   :class:`TriggerGlitchWarning`;
+                                   the pulse                   ignored
+=================================  ==========================  ===============================
+
+Errors where the record cannot give a right answer (a clipped or cut pulse has lost part
+of its impulse; a flipped channel would be analysed as tension), warnings where the
+analysis can go on, on the part it trusts: the first impact, the samples around a spike.
+A flat run counts as clipping when equal neighbours are that rare in the baseline's noise
+that the run's chance is below :data:`CLIP_CHANCE`, or when it holds 10 % of the pulse's
+samples (a noise-free quantised record, whose top may repeat a value by right).
 
 Every channel (``Fn``, ``Ft``, ``Fy``) gets its own line and noise level, fitted on the
 same out-of-contact samples. The end points are uncertain by about one sample period plus
@@ -32,7 +64,8 @@ the time the pulse needs to rise above the noise: for a Hertz start,
 :math:`F \approx K (v_0 t)^{3/2}`, that is :math:`(\hat\sigma/K)^{2/3}/v_0`.
 
 Digitised records (``kind="digitised"``) are already windowed and carry no baseline: the
-window is their time span and nothing is subtracted. Simulated records
+window is their time span and nothing is subtracted (a curve whose Fn is mostly negative
+is a :class:`SignFlipError`). Simulated records
 (``kind="simulated"``) are noise-free: the window runs from the last sample before the first
 ``Fn > 0`` to the first sample after the last ``Fn > 0`` (the contact lies inside, its ends
 within one sample of the window's), again with nothing subtracted. A record without ``kind``
@@ -47,6 +80,7 @@ F. R. Hampel, "The influence curve and its role in robust estimation", J. Am. St
 from __future__ import annotations
 
 import dataclasses
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -54,7 +88,16 @@ import xarray as xr
 from scipy import special
 
 from ._json import json_ready
-from .errors import InputError
+from .errors import (
+    ClippedSignalError,
+    InputError,
+    MultipleImpactWarning,
+    NoPulseError,
+    SignFlipError,
+    TriggerGlitchWarning,
+    TruncatedPulseError,
+)
+from .io._common import caller_level
 from .record import FORCE_CHANNELS, KINDS, channel
 
 __all__ = [
@@ -131,6 +174,10 @@ class ContactWindow:
     record : xarray.Dataset
         The baseline-corrected samples inside [t_start, t_end] (same layout as the input;
         attrs ``window_t_start``, ``window_t_end`` [s], ``baseline_removed``).
+    other_pulses : tuple of (t_start [s], t_end [s], peak [N])
+        Further impacts found after the contact (sensor records; see the module notes).
+    glitches : tuple of (t [s], value [N])
+        Spikes of a few samples outside the contact, ignored.
     """
 
     t_start: float
@@ -142,6 +189,8 @@ class ContactWindow:
     threshold: float = float("nan")
     peak: float = float("nan")
     record: xr.Dataset | None = field(default=None, repr=False, compare=False)
+    other_pulses: tuple = ()
+    glitches: tuple = ()
 
     @property
     def duration(self) -> float:
@@ -164,6 +213,10 @@ class ContactWindow:
                     k: {"offset_N": b.offset, "slope_N_per_s": b.slope, "t_ref_s": b.t_ref}
                     for k, b in self.baseline.items()
                 },
+                "other_pulses": [
+                    {"t_start_s": a, "t_end_s": b, "peak_N": p} for a, b, p in self.other_pulses
+                ],
+                "glitches": [{"t_s": a, "value_N": v} for a, v in self.glitches],
             }
         )
 
@@ -238,10 +291,25 @@ def find_contact(
 
     Raises
     ------
+    NoPulseError
+        No pulse above the noise (the message gives the peak and the noise level), or
+        only spikes.
+    TruncatedPulseError
+        The pulse runs past the first or last sample.
+    SignFlipError
+        The largest pulse of Fn is negative (a digitised Fn mostly negative).
+    ClippedSignalError
+        Fn or Ft sits at its extreme over a flat run inside the pulse.
     InputError
-        No pulse above the noise (the message gives the peak and the noise level), a
-        negative normal pulse (sign convention), or too few samples outside the contact to
-        estimate a sensor baseline.
+        Too few samples outside the contact to estimate a sensor baseline.
+
+    Warns
+    -----
+    MultipleImpactWarning
+        Further pulses after the contact, or a second impact merged into it (the window
+        then ends at the dip between them); listed in ``other_pulses``.
+    TriggerGlitchWarning
+        Spikes away from the pulse, ignored; listed in ``glitches``.
     """
     kind = record.attrs.get("kind", "sensor") or "sensor"
     if kind not in KINDS:
@@ -278,6 +346,14 @@ def _finish(record, t_start, t_end, kind, noise, baseline, threshold, peak):
 def _passthrough(record):
     t = record["time"].values
     _, fn = channel(record, "Fn")
+    if -np.min(fn) > max(np.max(fn), 0.0):
+        raise SignFlipError(
+            f"the digitised Fn is {'all ' if np.max(fn) <= 0 else 'mostly '}negative (from "
+            f"{float(np.min(fn)):.4g} N to {float(np.max(fn)):.4g} N): Fn must be compressive "
+            "> 0. Calibrate the plot's y axis again in WebPlotDigitizer (or digitise the "
+            "normal force, not another curve)",
+            path=record.attrs.get("source"),
+        )
     chans = _channels(record)
     return _finish(
         record,
@@ -324,17 +400,6 @@ def _fit_line(t, y, mask, t_ref, both_sides):
     return Baseline(float(np.mean(yy)), 0.0, float(t_ref))
 
 
-def _extend(r, ipk, sigma):
-    """Indices (a, b) of the run around ``ipk`` where r > σ (at least the peak itself)."""
-    n = r.size
-    a = b = ipk
-    while a > 0 and r[a - 1] > sigma:
-        a -= 1
-    while b < n - 1 and r[b + 1] > sigma:
-        b += 1
-    return a, b
-
-
 def _ends(t, r, a, b):
     """Contact ends from the run [a, b] where r > σ.
 
@@ -374,47 +439,31 @@ def _sensor(record, *, k, false_alarm, guard, max_iter):
         )
     kk = default_threshold(n, false_alarm) if k is None else float(k)
     t_ref = 0.5 * (t[0] + t[-1])
-    m = max(n // 10, 3)
-    # 1. initial baseline through the medians of the first and last 10 %
-    ta, ya = np.median(t[:m]), np.median(y[:m])
-    tb, yb = np.median(t[-m:]), np.median(y[-m:])
-    slope = (yb - ya) / (tb - ta)
-    base = Baseline(float(ya + slope * (t_ref - ta)), float(slope), float(t_ref))
-    # the first noise estimate uses the same end samples: a pulse that fills most of a
-    # short record would otherwise inflate the MAD past the pulse itself
-    outside = np.zeros(n, dtype=bool)
-    outside[:m] = outside[-m:] = True
-    window = None
+    base, outside = _initial_baseline(t, y, t_ref)
+    found = None
     sigma = np.nan
     for _ in range(max_iter):
         r = y - base(t)
-        sigma = mad_sigma(r[outside])
-        if sigma == 0.0:  # quantised or noise-free baseline: fall back to the std
-            sigma = float(np.std(r[outside]))
-        above = np.abs(r) > kk * sigma
-        if not above.any():
-            window = None
+        sigma = _sigma(r[outside])
+        runs = _runs(r, sigma, kk)
+        new = _choose(runs, r, sigma, kk, src)
+        if new is None:
+            found = None
             break
-        ipk = int(np.argmax(np.abs(r)))
-        if r[ipk] < 0:
-            raise InputError(
-                f"the largest excursion of Fn is negative ({r[ipk]:.4g} N from the baseline): "
-                "Fn must be compressive > 0; flip the normal axis sign (axes=) when loading",
-                path=src,
-            )
-        # 4. extend outward while r > σ, then to the zero crossing
-        a, b = _extend(r, ipk, sigma)
-        t0, t1 = _ends(t, r, a, b)
-        new = (a, b)
+        t0, t1 = _ends(t, r, new.a, new.b)
         dur = t1 - t0
         # the guard margin, shortened on a side whose trigger span is short so that at
         # least half of that span is still used for the baseline
         g_left = min(guard * dur, 0.5 * (t0 - t[0]))
         g_right = min(guard * dur, 0.5 * (t[-1] - t1))
         new_outside = (t < t0 - g_left) | (t > t1 + g_right)
+        for other in new.others + new.glitches:  # other impacts and spikes: not baseline
+            g = max(int(guard * (other.b - other.a + 1)), 1)
+            new_outside[max(other.a - g, 0) : other.b + g + 1] = False
         left = int(np.count_nonzero(new_outside & (t < t0)))
         right = int(np.count_nonzero(new_outside & (t > t1)))
         if left + right < 8:
+            _check_truncated(new, t, r, sigma, src)
             raise InputError(
                 f"only {left + right} samples lie outside the contact "
                 f"({t0:.6g} s to {t1:.6g} s): a sensor record needs pre- and post-trigger "
@@ -422,34 +471,311 @@ def _sensor(record, *, k, false_alarm, guard, max_iter):
                 "offset, mark it kind='digitised'",
                 path=src,
             )
-        both = left >= 4 and right >= 4
+        both = (
+            np.count_nonzero(new_outside & (t < t0)) >= 4
+            and np.count_nonzero(new_outside & (t > t1)) >= 4
+        )
         base = _fit_line(t, y, new_outside, t_ref, both)
-        converged = window == new and np.array_equal(new_outside, outside)
-        window, outside = new, new_outside
+        converged = found is not None and found.key == new.key
+        converged = converged and np.array_equal(new_outside, outside)
+        found, outside = new, new_outside
         if converged:
             break
     r = y - base(t)
-    if window is not None:
-        sigma = mad_sigma(r[outside]) or float(np.std(r[outside]))
-    ipk = int(np.argmax(r))
-    peak = float(r[ipk])
-    a, b = _extend(r, ipk, sigma)
-    n_above = int(np.count_nonzero(r[a : b + 1] > kk * sigma))
-    if window is None or n_above < 2:
-        raise InputError(
+    if found is not None:
+        sigma = _sigma(r[outside])
+    if found is None:
+        peak_abs = float(np.max(np.abs(r)))
+        raise NoPulseError(
             f"no contact pulse found: the largest |Fn| after baseline removal is "
-            f"{float(np.max(np.abs(r))):.4g} N against a noise σ = {sigma:.4g} N "
-            f"({float(np.max(np.abs(r))) / sigma if sigma > 0 else np.inf:.3g} σ); a pulse "
+            f"{peak_abs:.4g} N against a noise σ = {sigma:.4g} N "
+            f"({peak_abs / sigma if sigma > 0 else np.inf:.3g} σ); a pulse "
             f"needs at least 2 samples above k·σ = {kk * sigma:.4g} N (k = {kk:.3g}). "
             "Check the channel map and the trigger, or lower k",
             path=src,
         )
-    t0, t1 = _ends(t, r, a, b)
+    _check_truncated(found, t, r, sigma, src)
+    t0, t1 = _ends(t, r, found.a, found.b)
+    _check_clipping(record, found, outside, src)
+    # spikes worth a word: well above the threshold, and away from the pulse's edges
+    # (where the noise of a short record's σ estimate crosses k·σ now and then)
+    margin = guard * (t1 - t0)
+    found = dataclasses.replace(
+        found,
+        glitches=tuple(
+            g
+            for g in found.glitches
+            if abs(r[g.peak]) > 2 * kk * sigma and not t0 - margin <= t[g.peak] <= t1 + margin
+        ),
+    )
+    _report_events(found, t, r, src)
     both = np.count_nonzero(outside & (t < t0)) >= 4 and np.count_nonzero(outside & (t > t1)) >= 4
     noise, baseline = {}, {}
     for c in _channels(record):
         yc = record[c].values
         bc = base if c == "Fn" else _fit_line(t, yc, outside, t_ref, both)
         baseline[c] = bc
-        noise[c] = mad_sigma((yc - bc(t))[outside])
-    return _finish(record, t0, t1, "sensor", noise, baseline, kk, peak)
+        noise[c] = _sigma((yc - bc(t))[outside])
+    peak = float(np.max(r[found.a : found.b + 1]))
+    win = _finish(record, t0, t1, "sensor", noise, baseline, kk, peak)
+    return dataclasses.replace(
+        win,
+        other_pulses=tuple((float(t[o.a]), float(t[o.b]), float(r[o.peak])) for o in found.others),
+        glitches=tuple((float(t[g.peak]), float(r[g.peak])) for g in found.glitches),
+    )
+
+
+# ------------------------------------------------------------- pulses, spikes and checks
+#: A run of samples above the threshold this short is a spike, not a contact pulse: a real
+#: pulse rises and falls over many samples (≈ 100–250 at 1–2 MHz for a steel ball), a
+#: trigger glitch lasts one to three.
+GLITCH_SAMPLES = 3
+#: A pulse smaller than this fraction of the largest is not reported as a second impact
+#: (filter ringing, a touch of the sensor); it is still kept out of the baseline fit.
+MINOR_PULSE = 0.05
+#: Inside a pulse, a dip below this fraction of the lower of the two humps around it
+#: (and ≥ k·σ below it) separates two impacts that merged.
+DIP_FRACTION = 0.5
+#: Clipping: a flat run at the channel's maximum whose chance under the record's own
+#: noise (the rate of equal neighbours in the baseline, to the run's length) is below this.
+CLIP_CHANCE = 1e-6
+
+
+@dataclass(frozen=True)
+class _Run:
+    """Samples a..b (inclusive) where sign·r > σ, around a core above k·σ."""
+
+    a: int
+    b: int
+    sign: int
+    peak: int  # index of the largest sign·r
+    core: int  # samples above k·σ
+
+    @property
+    def size(self) -> int:
+        return self.b - self.a + 1
+
+
+@dataclass(frozen=True)
+class _Found:
+    """The contact pulse chosen, and what else stands above the noise."""
+
+    a: int
+    b: int
+    others: tuple = ()  # later positive pulses: further impacts, reported
+    glitches: tuple = ()  # spikes: reported
+    split: int | None = None  # index of the dip where a second impact was cut off
+
+    @property
+    def key(self):
+        return (self.a, self.b)
+
+
+def _sigma(r) -> float:
+    """MAD noise level, the standard deviation where the MAD is 0 (quantised, noise-free)."""
+    return mad_sigma(r) or float(np.std(r))
+
+
+def _initial_baseline(t, y, t_ref):
+    """The first baseline and the samples it rests on.
+
+    Three candidates: the line through the medians of the first and last 10 % of the
+    record, and the median of either end alone. The one that leaves the record's samples
+    closest to it (smallest median absolute residual) wins: when both ends are baseline
+    the line follows the drift; when one end lies inside a pulse the file cuts, the line
+    would run through the pulse and turn it negative, and the quiet end's median wins.
+    """
+    n = t.size
+    m = max(n // 10, 3)
+    ta, ya = np.median(t[:m]), np.median(y[:m])
+    tb, yb = np.median(t[-m:]), np.median(y[-m:])
+    slope = (yb - ya) / (tb - ta)
+    first, last, both = (np.zeros(n, dtype=bool) for _ in range(3))
+    first[:m] = last[-m:] = True
+    both[:m] = both[-m:] = True
+    candidates = [
+        (Baseline(float(ya + slope * (t_ref - ta)), float(slope), float(t_ref)), both),
+        (Baseline(float(ya), 0.0, float(t_ref)), first),
+        (Baseline(float(yb), 0.0, float(t_ref)), last),
+    ]
+    spread = [float(np.median(np.abs(y - base(t)))) for base, _ in candidates]
+    # the first noise estimate uses the chosen end samples: a pulse that fills most of a
+    # short record would otherwise inflate the MAD past the pulse itself
+    return candidates[int(np.argmin(spread))]
+
+
+def _in_sigma(x, sigma) -> str:
+    """``x`` in units of σ for a message (a noise-free record has σ = 0)."""
+    return f"{float(x) / sigma:.3g} σ" if sigma > 0 else "σ = 0"
+
+
+def _runs(r, sigma, kk) -> list[_Run]:
+    """Every excursion of r beyond ±k·σ, widened while it stays beyond ±σ (same sign).
+
+    A noise-free (or coarsely quantised) baseline has σ = 0: then every sample off it
+    counts."""
+    if not sigma >= 0:
+        return []
+    runs = []
+    for sign in (1, -1):
+        s = sign * r
+        core = np.flatnonzero(s > kk * sigma)
+        if core.size == 0:
+            continue
+        # widen each core sample to its run above σ: runs are the maximal stretches above σ
+        above = s > sigma
+        edges = np.flatnonzero(np.diff(np.concatenate([[0], above.astype(np.int8), [0]])))
+        starts, stops = edges[::2], edges[1::2] - 1
+        which = np.searchsorted(stops, core)  # the stretch holding each core sample
+        for j in np.unique(which):
+            a, b = int(starts[j]), int(stops[j])
+            pk = a + int(np.argmax(s[a : b + 1]))
+            runs.append(_Run(a, b, sign, pk, int(np.count_nonzero(which == j))))
+    return sorted(runs, key=lambda run: run.a)
+
+
+def _choose(runs, r, sigma, kk, src) -> _Found | None:
+    """The contact pulse: the first positive pulse of note (see the module notes)."""
+    if not runs:
+        return None
+    spike = GLITCH_SAMPLES
+    glitches = [run for run in runs if run.size <= spike]
+    pulses = [run for run in runs if run.size > spike and run.core >= 2]
+    if not pulses:
+        if glitches:
+            g = max(glitches, key=lambda run: abs(r[run.peak]))
+            raise NoPulseError(
+                f"no contact pulse found, only {len(glitches)} spike(s) of at most "
+                f"{spike} samples (the largest {float(r[g.peak]):.4g} N at sample "
+                f"{g.peak}, {_in_sigma(abs(r[g.peak]), sigma)}): a contact pulse lasts many "
+                "samples. Check the trigger and that the file holds the impact",
+                path=src,
+            )
+        return None
+    biggest = max(pulses, key=lambda run: abs(r[run.peak]))
+    if biggest.sign < 0:
+        raise SignFlipError(
+            f"the largest pulse of Fn is negative ({float(r[biggest.peak]):.4g} N from the "
+            f"baseline, {biggest.size} samples from sample {biggest.a}): Fn must be "
+            "compressive > 0; flip the normal axis sign when loading (axes={'Fn': '-Fz'})",
+            path=src,
+        )
+    top = float(r[biggest.peak])
+    major = [run for run in pulses if run.sign > 0 and r[run.peak] >= MINOR_PULSE * top]
+    main = major[0]
+    others = [run for run in major[1:]]
+    a, b, split = main.a, main.b, _dip(r, main, sigma, kk)
+    if split is not None:
+        rest = _Run(split, main.b, 1, split + int(np.argmax(r[split : main.b + 1])), 0)
+        others.insert(0, rest)
+        b = split - 1
+    return _Found(a, b, tuple(others), tuple(glitches), split)
+
+
+def _dip(r, run, sigma, kk) -> int | None:
+    """Index of the bottom of the first deep dip inside a pulse (two merged impacts), or
+    None: a sample below DIP_FRACTION of the lower hump around it, and ≥ k·σ below it,
+    both humps ≥ 3·k·σ."""
+    seg = r[run.a : run.b + 1]
+    if seg.size < 3:
+        return None
+    before = np.maximum.accumulate(seg)
+    after = np.maximum.accumulate(seg[::-1])[::-1]
+    hump = np.minimum(before, after)
+    deep = (seg <= DIP_FRACTION * hump) & (hump - seg >= kk * sigma) & (hump >= 3 * kk * sigma)
+    if not deep.any():
+        return None
+    i = int(np.argmax(deep))
+    j = i
+    while j + 1 < seg.size and deep[j + 1]:
+        j += 1
+    return run.a + i + int(np.argmin(seg[i : j + 1]))
+
+
+def _check_truncated(found, t, r, sigma, src):
+    n = t.size
+    if found.a == 0:
+        raise TruncatedPulseError(
+            f"the record starts inside the contact pulse: Fn is already {float(r[0]):.4g} N "
+            f"({_in_sigma(r[0], sigma)} above the baseline) at the first sample "
+            f"(t = {float(t[0]):.6g} s); the file was cut mid-pulse — export it again with "
+            "more pre-trigger samples",
+            path=src,
+        )
+    if found.b == n - 1:
+        raise TruncatedPulseError(
+            f"the contact pulse runs past the end of the record: Fn is still "
+            f"{float(r[-1]):.4g} N ({_in_sigma(r[-1], sigma)} above the baseline) at the "
+            f"last sample (t = {float(t[-1]):.6g} s); the file was cut mid-pulse — export it "
+            "again with more post-trigger samples",
+            path=src,
+        )
+
+
+def _check_clipping(record, found, outside, src):
+    """ClippedSignalError when Fn or Ft sits at its extreme over a flat run in the pulse."""
+    t = record["time"].values
+    for c in ("Fn", "Ft"):
+        if c not in record:
+            continue
+        raw = record[c].values
+        seg = raw[found.a : found.b + 1]
+        base = raw[outside]
+        # the rate of equal neighbours in the baseline: how often the noise repeats a value
+        rep = (np.count_nonzero(np.diff(base) == 0) + 1) / max(base.size, 2)
+        for value in (seg.max(), seg.min()):
+            at = np.flatnonzero(seg == value)
+            if at.size < 3:
+                continue
+            # the longest stretch of consecutive samples at that value
+            breaks = np.flatnonzero(np.diff(at) > 1)
+            lengths = np.diff(np.concatenate([[-1], breaks, [at.size - 1]]))
+            longest = int(lengths.max())
+            flat = longest >= max(5, 0.1 * seg.size)
+            if longest >= 3 and (min(rep, 1.0) ** (longest - 1) < CLIP_CHANCE or flat):
+                i0 = found.a + int(at[0])
+                raise ClippedSignalError(
+                    f"{c} is clipped: {longest} consecutive samples inside the contact "
+                    f"pulse (from t = {float(t[i0]):.6g} s) sit at {float(value):.6g} N, the "
+                    f"channel's {'maximum' if value == seg.max() else 'minimum'} (equal "
+                    f"neighbours occur at a rate of {rep:.2g} in the baseline): the ADC "
+                    "saturated, so the peak and the impulse are lost; record again with a "
+                    "larger range or lower gain",
+                    path=src,
+                    column=c,
+                )
+
+
+def _report_events(found, t, r, src):
+    if found.others:
+        peak = float(np.max(r[found.a : found.b + 1]))
+        listing = "; ".join(
+            f"t = {float(t[o.a]):.6g} s, peak {float(r[o.peak]):.4g} N "
+            f"({100 * float(r[o.peak]) / peak:.0f} % of the first)"
+            for o in found.others
+        )
+        where = (
+            f"a second impact begins inside the contact (the force dips to "
+            f"{float(r[found.split]):.4g} N at t = {float(t[found.split]):.6g} s and rises "
+            "again): the window ends at that dip. "
+            if found.split is not None
+            else ""
+        )
+        warnings.warn(
+            f"{src}: {where}{len(found.others)} further pulse(s) after the contact "
+            f"({listing}): a rebound strike or a second impact; the analysis keeps to the "
+            "first",
+            MultipleImpactWarning,
+            stacklevel=caller_level(__file__),
+        )
+    if found.glitches:
+        g = found.glitches
+        worst = max(g, key=lambda run: abs(r[run.peak]))
+        warnings.warn(
+            f"{src}: {len(g)} spike(s) of at most {max(run.size for run in g)} sample(s) "
+            f"outside the contact pulse (the largest {float(r[worst.peak]):.4g} N at t = "
+            f"{float(t[worst.peak]):.6g} s): a trigger glitch or an electrical spike; "
+            "ignored",
+            TriggerGlitchWarning,
+            stacklevel=caller_level(__file__),
+        )

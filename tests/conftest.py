@@ -5,6 +5,11 @@ The outcome-table cache lives in a temporary folder.
 Hypothesis explores new random examples on every local run; under CI (``CI`` set, as the
 CI runner does) it runs a fixed, derandomised set so a landing never hinges on luck. Any
 failure found locally is a real bug and is kept in the local example database.
+
+Property tests scale their example counts by the profile's ``max_examples`` (the *unit*):
+100 by default (``make test``: a few thousand examples in all, some 15 s), 500 under the
+``fuzz`` profile that CI runs (``make test-fuzz``: over 10,000 examples in all).
+``HYPOTHESIS_PROFILE=<name>`` picks a profile.
 """
 
 import os
@@ -27,5 +32,8 @@ def _outcome_table_cache(tmp_path_factory):
 
 
 settings.register_profile("ci", derandomize=True, database=None, print_blob=True)
+settings.register_profile("fuzz", parent=settings.get_profile("ci"), max_examples=500)
 if os.environ.get("CI"):
     settings.load_profile("ci")
+if os.environ.get("HYPOTHESIS_PROFILE"):
+    settings.load_profile(os.environ["HYPOTHESIS_PROFILE"])

@@ -7,6 +7,7 @@ back) or the closed-form Hertz pulse the samples were made from (Johnson, Contac
 
 from __future__ import annotations
 
+import json
 import sys
 from pathlib import Path
 
@@ -108,7 +109,7 @@ TRUTH = {"Fx": [0.25, -1.5, 2.0, 0.0], "Fy": [0.0, 0.01, -0.02, 0.0], "Fz": [1.0
 
 
 def _sensor_text(sep=",", dec=".", t_unit="[us]", f_unit="[kN]", eol="\n", meta=True):
-    head = ["# operator: A. Lab", "# Sample rate = 2 MHz", "# free comment"] if meta else []
+    head = ["# operator: A. Lab", "# Trigger level = 2 N", "# free comment"] if meta else []
     cols = [f"time {t_unit}", f"Fx {f_unit}", f"Fy {f_unit}", f"Fz {f_unit}"]
     rows = [sep.join(cols)]
     for k, t in enumerate(TRUTH_T):
@@ -140,7 +141,7 @@ def test_sensor_dialects_convert_to_si(
     np.testing.assert_allclose(rec["Ft"].values, np.array(TRUTH["Fx"]) * f_factor, rtol=1e-15)
     np.testing.assert_allclose(rec["Fy"].values, np.array(TRUTH["Fy"]) * f_factor, rtol=1e-15)
     assert rec.attrs["meta_operator"] == "A. Lab"
-    assert rec.attrs["meta_sample_rate"] == "2 MHz"
+    assert rec.attrs["meta_trigger_level"] == "2 N"
     assert rec.attrs["meta_comment"] == "free comment"
     assert rec.attrs["sha256"] == __import__("hashlib").sha256(p.read_bytes()).hexdigest()
     assert rec["Fn"].attrs["units"] == "N" and rec["time"].attrs["units"] == "s"
@@ -774,3 +775,145 @@ def test_wpd_number_past_float_range_is_refused(tmp_path):
     p.write_text("1e400, 5\n2, 20\n1, 10\n4, 1\n", encoding="utf-8")
     with pytest.raises(InputError, match=r"Fn\.csv, line 1.*infinite"):
         load(p, time_unit="ms", force_unit="N")
+
+
+# ------------------------------------------------------------------ cross-talk decoupling
+def _crosstalk_pair(tmp_path, C):
+    """The same ideal impact through the sensor model with cross-talk C and without, as
+    sensor CSVs (no noise, offset, drift or ADC: only the linear mixing differs)."""
+    from pipeline.sensor_model import to_sensor
+
+    t = np.linspace(0.0, IMPACT.t_c, 801)
+    F = hertz_pulse(t, IMPACT)["F"]
+    ideal = make_record(
+        t,
+        {"Fn": F, "Ft": 0.15 * F * np.cos(np.pi * t / IMPACT.t_c), "Fy": 0.0 * F},
+        attrs={"source": "hertz_pulse", "format": "test", "kind": "simulated"},
+    )
+    quiet = dict(noise=0.0, offset=0.0, drift=0.0, bits=None, full_scale=np.inf, seed=3)
+    mixed = write_sensor(to_sensor(ideal, crosstalk=C, **quiet), tmp_path / "mixed.csv")
+    clean = write_sensor(to_sensor(ideal, crosstalk=np.eye(3), **quiet), tmp_path / "clean.csv")
+    return mixed, clean
+
+
+# The sensor model orders axes (Fn, Ft, Fy) and write_sensor writes them as (Fz, Fx, Fy):
+# P maps model order to the file's raw (Fx, Fy, Fz) order.
+P = np.array([[0, 1, 0], [0, 0, 1], [1, 0, 0]], dtype=float)
+C_MODEL = np.array([[1.0, 0.03, -0.02], [0.025, 1.0, 0.015], [-0.01, 0.02, 1.0]])
+
+
+def test_decouple_with_the_inverse_crosstalk_recovers_the_ideal_forces(tmp_path):
+    """pipeline.sensor_model.to_sensor mixes F_meas = C·F_true (its own cross-talk
+    matrix, model order); decoupling the file with M = P·C⁻¹·Pᵀ (file order Fx, Fy, Fz)
+    gives back the record the sensor would give without cross-talk."""
+    mixed, clean = _crosstalk_pair(tmp_path, C_MODEL)
+    M = P @ np.linalg.inv(C_MODEL) @ P.T
+    rec = load(mixed, decouple=M)
+    ref = load(clean)
+    scale = float(np.max(np.abs(ref["Fn"].values)))
+    for name in ("Fn", "Ft", "Fy"):
+        # one inversion and a 3-term sum per sample: a few ulp of the peak
+        np.testing.assert_allclose(rec[name].values, ref[name].values, rtol=0, atol=1e-12 * scale)
+    raw = load(mixed)
+    assert np.max(np.abs(raw["Fy"].values)) > 0.01 * scale  # the mixing was there to undo
+    assert rec.attrs["decouple_axes"] == "Fx,Fy,Fz"
+    assert [float(x) for x in rec.attrs["decouple_matrix"].split(",")] == M.ravel().tolist()
+    assert rec.attrs["decouple_source"] == "array"
+
+
+def test_decouple_from_a_file_records_its_provenance(tmp_path):
+    mixed, clean = _crosstalk_pair(tmp_path, C_MODEL)
+    M = P @ np.linalg.inv(C_MODEL) @ P.T
+    text = "# calibration sheet 2024-03\n" + "\n".join(
+        ";".join(repr(float(x)) for x in row) for row in M
+    )
+    m_file = _write(tmp_path, "decouple.txt", text + "\n")
+    rec = load(mixed, decouple=m_file)
+    assert rec.attrs["decouple_source"] == "decouple.txt"
+    assert (
+        rec.attrs["decouple_sha256"]
+        == __import__("hashlib").sha256(m_file.read_bytes()).hexdigest()
+    )
+    as_json = _write(tmp_path, "m.json", json.dumps({"matrix": M.tolist()}))
+    np.testing.assert_array_equal(load(mixed, decouple=as_json)["Fn"].values, rec["Fn"].values)
+
+
+@pytest.mark.parametrize(
+    "spec,fragment",
+    [
+        (np.eye(2), "must be 3×3"),
+        ([[1, 0, 0], [0, 1, 0], [0, 0, np.nan]], "must be 3×3 and finite"),
+        ([[1, 1, 0], [1, 1, 0], [0, 0, 1]], "singular"),
+        ("no_such_matrix.txt", "no such file"),
+    ],
+)
+def test_bad_decoupling_matrices(tmp_path, spec, fragment):
+    mixed, _ = _crosstalk_pair(tmp_path, C_MODEL)
+    with pytest.raises(InputError, match=fragment):
+        load(mixed, decouple=spec)
+
+
+def test_decouple_needs_raw_axes(tmp_path):
+    p = _write(tmp_path, "fnft.csv", "time [s],Fn [N],Ft [N]\n0,1,0\n1e-6,2,0\n")
+    with pytest.raises(
+        InputError, match="needs the raw Fx, Fy and Fz columns; the header has no Fx"
+    ):
+        load(p, decouple=np.eye(3))
+    with pytest.raises(InputError, match="decouple= does not apply to digitised"):
+        load(SAMPLES / "wpd_datasets.csv", time_unit="us", force_unit="N", decouple=np.eye(3))
+
+
+# ------------------------------------------------------------------ metadata and the scene
+def test_metadata_with_units_fills_scene_fields(tmp_path):
+    from pipeline.io import scene_from_metadata
+
+    text = (
+        "# impact speed [m/s]: 0.6\n# Angle: 15 deg\n# ball diameter: 25,4 mm\n"
+        "# mass [g]: 67.35\n# restitution: 0.9\n# speed of sound: 5000\n"
+        "# E: 210 GPa\n# operator: A. Lab\ntime [s],Fz [N]\n0,1\n1e-6,2\n"
+    )
+    rec = load(_write(tmp_path, "meta.csv", text))
+    fields = scene_from_metadata(rec)
+    assert {k: v for k, (v, _) in fields.items()} == pytest.approx(
+        {"speed": 0.6, "angle_deg": 15.0, "radius": 0.0127, "mass": 0.06735, "e": 0.9, "E": 210e9}
+    )
+    assert fields["radius"][1] == "record metadata 'ball_diameter' = '25,4 mm'"
+    assert rec.attrs["meta_impact_speed"] == "0.6 m/s"  # the key's unit kept with the value
+
+
+@pytest.mark.parametrize(
+    "line,fragment",
+    [
+        ("# speed: 5 mm", "'mm' is not a unit of it"),
+        ("# radius: 1 cm\n# diameter: 1 cm", "two values for radius"),
+    ],
+)
+def test_metadata_that_contradicts_itself(tmp_path, line, fragment):
+    from pipeline.io import scene_from_metadata
+
+    rec = load(_write(tmp_path, "m.csv", f"{line}\ntime [s],Fz [N]\n0,1\n1e-6,2\n"))
+    with pytest.raises(InputError, match=fragment):
+        scene_from_metadata(rec)
+
+
+def test_a_bare_number_is_not_guessed(tmp_path):
+    from pipeline.io import scene_from_metadata
+
+    rec = load(_write(tmp_path, "m.csv", "# speed: 0.6\ntime [s],Fz [N]\n0,1\n1e-6,2\n"))
+    assert scene_from_metadata(rec) == {}
+
+
+# ------------------------------------------------------------------------- sample rate
+def test_stated_sample_rate_against_the_time_column(tmp_path):
+    from pipeline.errors import SampleRateWarning, UnitMismatchError
+
+    body = "time [s],Fz [N]\n" + "".join(f"{k * 0.5},{k}\n" for k in range(5))
+    p = _write(tmp_path, "rate.csv", "# sample rate: 2 MHz\n" + body)
+    with pytest.raises(UnitMismatchError, match="time values are in 'us', not 's'") as info:
+        load(p)
+    assert info.value.ratio == pytest.approx(1e6)
+    ok = _write(tmp_path, "ok.csv", "# sample rate [Hz]: 2\n" + body)
+    assert load(ok).sizes["time"] == 5
+    off = _write(tmp_path, "off.csv", "# sample rate: 2.5 Hz\n" + body)
+    with pytest.warns(SampleRateWarning, match="states 'sample_rate: 2.5 Hz'"):
+        load(off)

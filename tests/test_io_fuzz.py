@@ -1,13 +1,20 @@
-"""Fuzzing the readers, and the netCDF round trip of every format.
+"""Fuzzing every reader and the scene parser, and the netCDF round trip of every format.
 
-Properties: whatever bytes a file holds, ``pipeline.io.load`` either returns a record that
-passes ``pipeline.record.validate`` or raises ``InputError`` — never another exception,
-never a bare pandas/numpy/npTDMS traceback.
+Properties: whatever bytes a file holds, ``pipeline.io.load`` and each reader
+(``read_sensor``, ``read_wpd``, ``read_tdms``), the scene parser (``Scene.from_file``), a
+sample's sidecar (``pipeline.report.load_sample``) and a decoupling-matrix file either
+return their result (a record that passes ``pipeline.record.validate``, a Scene) or raise
+``InputError`` naming the file — never another exception, never a bare
+pandas/numpy/npTDMS/json traceback — and never change a byte of the file.
 And a valid sensor CSV in any accepted dialect loads to the values written in it, in SI.
+
+Example counts are multiples of the profile's unit (tests/conftest.py): 100 in
+``make test``, 500 under the ``fuzz`` profile CI runs (over 10,000 examples in all).
 """
 
 from __future__ import annotations
 
+import json
 import shutil
 import tempfile
 import warnings
@@ -19,8 +26,9 @@ import xarray as xr
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from pipeline.errors import InputError, PlaneImpactWarning
-from pipeline.io import load, validate
+from pipeline import Scene
+from pipeline.errors import InputError, PipelineWarning
+from pipeline.io import load, read_decoupling, read_sensor, read_tdms, read_wpd, validate
 
 SAMPLES = Path(__file__).resolve().parents[1] / "data_samples"
 SAMPLE_FILES = {
@@ -71,23 +79,36 @@ TOKENS = [
 ]
 
 _TMP = Path(tempfile.mkdtemp(prefix="io_fuzz_"))
+#: The profile's example unit (tests/conftest.py): 100 by default, 500 under "fuzz".
+UNIT = settings.default.max_examples
 
 
 def teardown_module(module):
     shutil.rmtree(_TMP, ignore_errors=True)
 
 
-def _check(name: str, data: bytes, kwargs: dict):
-    path = _TMP / name
-    path.write_bytes(data)
+def _refused_or_read(path: Path, read, *names):
+    """``read()`` returns its result or raises InputError naming the file (``names``: the
+    file names that count); the file's bytes are unchanged either way."""
+    before = path.read_bytes()
     with warnings.catch_warnings():
-        warnings.simplefilter("ignore", PlaneImpactWarning)  # a mutated Fy may be large
+        warnings.simplefilter("ignore", PipelineWarning)  # a mutated file may well warn
         try:
-            rec = load(path, **kwargs)
+            out = read()
         except InputError as exc:
             # only units are passed here, so every refusal is about the file: it names it
-            assert name in str(exc), str(exc)
-            return
+            assert any(n in str(exc) for n in (path.name, *names)), str(exc)
+            out = None
+    assert path.read_bytes() == before, "the input file was changed"
+    return out
+
+
+def _check(name: str, data: bytes, kwargs: dict, reader=load):
+    path = _TMP / name
+    path.write_bytes(data)
+    rec = _refused_or_read(path, lambda: reader(path, **kwargs))
+    if rec is None:
+        return
     validate(rec)
     t = rec["time"].values
     assert t.size >= 2 and np.all(np.diff(t) > 0) and np.all(np.isfinite(t))
@@ -152,14 +173,33 @@ def mutated(draw):
     return name, data, kwargs
 
 
-@settings(max_examples=3000, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=10 * UNIT, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(mutated())
 def test_mutated_files_give_record_or_input_error(case):
     name, data, kwargs = case
     _check(name, data, kwargs)
 
 
-@settings(max_examples=1500, deadline=None)
+READERS = {".csv": read_sensor, ".tdms": read_tdms}
+
+
+@settings(max_examples=3 * UNIT, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(mutated())
+def test_each_reader_called_directly_gives_record_or_input_error(case):
+    """The format readers themselves, not only load's sniffing in front of them: each is
+    handed whatever the mutation made of a file of its format."""
+    name, data, kwargs = case
+    if name.startswith(("wpd", "Fn")):
+        reader = read_wpd
+        kwargs = {"time_unit": "us", "force_unit": "N", **kwargs}
+        if not name.startswith("wpd_datasets"):
+            kwargs["channels"] = "Fn"
+    else:
+        reader = READERS[Path(name).suffix]
+    _check(name, data, kwargs, reader=reader)
+
+
+@settings(max_examples=5 * UNIT, deadline=None)
 @given(
     data=st.binary(max_size=400)
     | st.text(
@@ -246,7 +286,7 @@ def sensor_dialect(draw):
         rows.append(sep.join(cells) + trail)
         if draw(st.integers(0, 5)) == 0:
             rows.append(draw(st.sampled_from(["", " ", "  "])))  # blank line inside the table
-    meta = draw(st.lists(st.sampled_from(["# operator: A. Lab", "# rate = 1 MHz", "# note"])))
+    meta = draw(st.lists(st.sampled_from(["# operator: A. Lab", "# gain = 10 N/V", "# note"])))
     excel = [f"sep={sep}"] if draw(st.booleans()) else []
     eol = draw(st.sampled_from(["\n", "\r\n", "\r"]))
     text = eol.join(excel + meta + [sep.join(cols) + trail] + rows) + eol
@@ -256,7 +296,7 @@ def sensor_dialect(draw):
     return text.encode(encoding), truth
 
 
-@settings(max_examples=400, deadline=None)
+@settings(max_examples=2 * UNIT, deadline=None)
 @given(sensor_dialect())
 def test_valid_sensor_dialects_load_to_known_si_values(case):
     """Odd but valid dialects (units with or without a space, µ/μ, decimal comma with
@@ -270,3 +310,83 @@ def test_valid_sensor_dialects_load_to_known_si_values(case):
     np.testing.assert_allclose(rec["time"].values, truth["time"], rtol=1e-15, atol=0)
     np.testing.assert_allclose(rec["Fn"].values, truth["Fn"], rtol=1e-15, atol=0)
     np.testing.assert_allclose(rec["Ft"].values, truth["Ft"], rtol=1e-15, atol=0)
+
+
+# ------------------------------------------------------------------ scene files, sidecars
+_JSON = st.recursive(
+    st.none()
+    | st.booleans()
+    | st.floats(allow_nan=True, allow_infinity=True)
+    | st.integers(-(10**30), 10**30)
+    | st.sampled_from(["inf", "-inf", "nan", "1", "", "0.0127"])
+    | st.text(max_size=8),
+    lambda inner: st.lists(inner, max_size=4)
+    | st.dictionaries(st.sampled_from([*Scene.field_names(), "scene", "x", "Speed"]), inner,
+                      max_size=6),
+    max_leaves=20,
+)  # fmt: skip
+SCENE_FILE = json.dumps(
+    {"radius": 0.0127, "speed": 0.6, "density": 7850.0, "E": 2.1e11, "nu": 0.29,
+     "target_mass": "inf", "angle_deg": 15.0}
+).encode()  # fmt: skip
+
+
+def _scene_bytes():
+    """Bytes of a scene file: random JSON values, random bytes, or a good file mutated."""
+    return (
+        _JSON.map(lambda v: json.dumps(v).encode())
+        | st.binary(max_size=200)
+        | st.builds(
+            lambda d, i, b: d[:i] + bytes([b]) + d[i + 1 :],
+            st.just(SCENE_FILE),
+            st.integers(0, len(SCENE_FILE) - 1),
+            st.integers(0, 255),
+        )
+        | st.fixed_dictionaries(
+            {k: st.just(v) for k, v in json.loads(SCENE_FILE).items()},
+            optional={k: _JSON for k in Scene.field_names() if k not in json.loads(SCENE_FILE)},
+        ).map(lambda d: json.dumps(d).encode())
+    )
+
+
+@settings(max_examples=4 * UNIT, deadline=None)
+@given(data=_scene_bytes())
+def test_scene_files_give_scene_or_input_error(data):
+    path = _TMP / "scene.json"
+    path.write_bytes(data)
+    scene = _refused_or_read(path, lambda: Scene.from_file(path))
+    assert scene is None or isinstance(scene, Scene)
+
+
+@settings(max_examples=2 * UNIT, deadline=None)
+@given(data=_scene_bytes() | _JSON.map(lambda v: json.dumps({"load": v}).encode()))
+def test_sidecars_give_record_or_input_error(data):
+    """A sample and whatever its sidecar holds: the record as the sidecar's 'load' block
+    says, or an InputError naming the sidecar or the record."""
+    from pipeline.report import load_sample, scene_from_sidecar
+
+    folder = _TMP / "side"
+    folder.mkdir(exist_ok=True)
+    (folder / "r.csv").write_bytes(SMALL["small.csv"])
+    side = folder / "r.json"
+    side.write_bytes(data)
+    _refused_or_read(
+        side, lambda: (load_sample(folder / "r.csv"), scene_from_sidecar(folder / "r.csv")), "r.csv"
+    )
+
+
+@settings(max_examples=UNIT, deadline=None)
+@given(
+    data=st.binary(max_size=120)
+    | st.lists(st.lists(st.sampled_from(["1", "0", "-0.5", "1e308", "nan", "x", ""]),
+                        max_size=4), max_size=4).map(
+        lambda rows: "\n".join(",".join(r) for r in rows).encode()
+    ),
+    suffix=st.sampled_from([".txt", ".csv", ".json", ".npy"]),
+)  # fmt: skip
+def test_decoupling_files_give_matrix_or_input_error(data, suffix):
+    path = _TMP / f"m{suffix}"
+    path.write_bytes(data)
+    out = _refused_or_read(path, lambda: read_decoupling(path))
+    if out is not None:
+        assert out[0].shape == (3, 3) and np.all(np.isfinite(out[0]))

@@ -251,3 +251,44 @@ def test_a_radius_must_be_a_number(value):
     """JSON's true is not a radius (it used to read as 1 m)."""
     with pytest.raises(InputError, match="radius"):
         Scene(radius=value, density=7850.0, speed=0.6)
+
+
+# ------------------------------------------------------------------------ scene files
+@pytest.mark.parametrize(
+    "content,fragment",
+    [
+        (b'{"radius": 0.0127, "speed": 1', "not valid JSON"),
+        (b"[0.0127, 1.0]", "must hold a JSON object {...}, not a list"),
+        ('{"radius": 0.0127, "Speed": 1}'.encode("latin-1") + b"\xe9", "not UTF-8"),
+        (b'{"radius": 0.0127, "radius": 0.02, "speed": 1, "mass": 0.1}', "appears twice"),
+        (b'{"radius": true, "speed": 1, "mass": 0.1}', "Scene.radius must be a number"),
+        (b'{"radius": 0.0127, "sped": 1, "mass": 0.1}', "did you mean 'speed'"),
+        (b'{"radius": 0.0127, "mass": 0.1}', "does not give speed"),
+        (b'{"scene": [1, 2]}', "'scene' must be an object"),
+        (b"[" * 50000, "nests too deeply"),
+    ],
+)
+def test_scene_file_errors_name_the_file(tmp_path, content, fragment):
+    p = tmp_path / "s.json"
+    p.write_bytes(content)
+    with pytest.raises(InputError, match=fragment) as info:
+        Scene.from_file(p)
+    assert str(p) in str(info.value)
+
+
+def test_scene_file_flat_or_sidecar(tmp_path):
+    flat = tmp_path / "flat.json"
+    flat.write_text('{"radius": 0.0127, "speed": 1.0, "density": 7800, "target_E": "inf"}')
+    side = tmp_path / "side.json"
+    side.write_text(
+        '{"synthetic": true, "scene": {"radius": 0.0127, "speed": 1.0, "density": 7800}}'
+    )
+    assert (
+        Scene.from_file(flat)
+        == Scene.from_file(side)
+        == Scene(radius=0.0127, speed=1.0, density=7800.0)
+    )
+    with pytest.raises(InputError, match="is a directory"):
+        Scene.from_file(tmp_path)
+    with pytest.raises(InputError, match="no such scene file"):
+        Scene.from_file(tmp_path / "missing.json")

@@ -13,7 +13,15 @@ import pytest
 from scipy import integrate
 
 from pipeline.contact import hertz_impact, hertz_pulse
-from pipeline.errors import InputError
+from pipeline.errors import (
+    ClippedSignalError,
+    InputError,
+    MultipleImpactWarning,
+    NoPulseError,
+    SignFlipError,
+    TriggerGlitchWarning,
+    TruncatedPulseError,
+)
 from pipeline.record import make_record
 from pipeline.scene import Scene
 from pipeline.window import apply_window, default_threshold, find_contact
@@ -29,10 +37,13 @@ OFFSET_N, DRIFT_N = 15.0, 2.0e4  # [N], [N/s]
 OFFSET_T, DRIFT_T = -3.0, -5.0e3
 
 
-def sensor_record(seed=1, pulse=True, sigma_n=SIGMA_N):
+def sensor_record(seed=1, pulse=True, sigma_n=SIGMA_N, extra=None):
+    """The Hertz pulse at T0 with offset, drift and noise; ``extra(t)`` adds a force [N]."""
     rng = np.random.default_rng(seed)
     t = np.arange(0.0, 3.1e-3, 1.0 / FS)
     F = hertz_pulse(t - T0, IMPACT)["F"] if pulse else np.zeros_like(t)
+    if extra is not None:
+        F = F + extra(t)
     Fn = F + OFFSET_N + DRIFT_N * t + rng.normal(0.0, sigma_n, t.size)
     Ft = 0.2 * F + OFFSET_T + DRIFT_T * t + rng.normal(0.0, SIGMA_T, t.size)
     return make_record(
@@ -198,3 +209,128 @@ def test_short_trigger_spans_still_give_the_window():
         assert abs(w.t_end - (T0 + IMPACT.t_c)) < tol
         noise.append(w.noise["Fn"])
     assert np.median(noise) == pytest.approx(SIGMA_N, rel=0.25)
+
+
+# --------------------------------------------------------------- what a careful eye refuses
+def _with_fn(rec, fn):
+    out = rec.copy(deep=True)
+    out["Fn"] = ("time", fn, dict(rec["Fn"].attrs))
+    return out
+
+
+def _index(rec, t):
+    return int(np.searchsorted(rec["time"].values, t))
+
+
+@pytest.mark.parametrize(
+    "cut,fragment",
+    [
+        (slice(None, _index_mid := int((T0 + 0.5 * IMPACT.t_c) * FS)), "runs past the end"),
+        (slice(_index_mid, None), "starts inside the contact pulse"),
+    ],
+)
+def test_a_pulse_cut_by_the_file_is_said_to_be_cut(cut, fragment):
+    """A file ending (or starting) mid-pulse: its own error, naming the force at the cut —
+    not 'flip the normal axis' (the old baseline through the two ends went through the
+    pulse and turned it negative)."""
+    rec = sensor_record().isel(time=cut)
+    with pytest.raises(TruncatedPulseError, match=fragment) as info:
+        find_contact(rec)
+    assert "cut mid-pulse" in str(info.value)
+
+
+@pytest.mark.parametrize("spike", [5000.0, -5000.0])
+def test_a_trigger_glitch_is_reported_and_ignored(spike):
+    """One sample of ±5 kN 1 ms before the impact: a warning naming it; the window and
+    the noise are those of the clean record (the old code took the spike for the pulse:
+    'no contact pulse found')."""
+    clean = find_contact(sensor_record())
+    rec = sensor_record()
+    fn = rec["Fn"].values.copy()
+    i = _index(rec, 0.5e-3)
+    fn[i] += spike
+    with pytest.warns(TriggerGlitchWarning, match=r"1 spike\(s\).*ignored") as caught:
+        w = find_contact(_with_fn(rec, fn))
+    assert caught[0].filename == __file__  # the caller's line, not one inside the window
+    tol = end_tolerance(SIGMA_N)
+    assert abs(w.t_start - clean.t_start) < tol and abs(w.t_end - clean.t_end) < tol
+    assert w.noise["Fn"] == pytest.approx(clean.noise["Fn"], rel=0.02)
+    ((t_glitch, value),) = w.glitches
+    assert t_glitch == rec["time"].values[i]
+    assert value == pytest.approx(spike, abs=10 * SIGMA_N)  # minus the baseline there
+
+
+def test_a_record_of_noise_and_a_spike_has_no_pulse():
+    rec = sensor_record(pulse=False)
+    fn = rec["Fn"].values.copy()
+    fn[1000] += 3000.0
+    with pytest.raises(NoPulseError, match=r"only 1 spike\(s\)"):
+        find_contact(_with_fn(rec, fn))
+
+
+REBOUND = hertz_impact(SCENE.replace(speed=0.2))  # a slower second strike: ~40 % of F_max
+
+
+def test_a_rebound_strike_after_the_contact_is_reported_and_left_out():
+    gap = 30e-6
+    t2 = T0 + IMPACT.t_c + gap
+    rec = sensor_record(extra=lambda t: hertz_pulse(t - t2, REBOUND)["F"])
+    with pytest.warns(MultipleImpactWarning, match=r"1 further pulse\(s\)") as info:
+        w = find_contact(rec)
+    assert "keeps to the first" in str(info[0].message)
+    tol = end_tolerance(SIGMA_N)
+    assert abs(w.t_start - T0) < tol and abs(w.t_end - (T0 + IMPACT.t_c)) < tol
+    ((a, b, peak),) = w.other_pulses
+    assert abs(a - t2) < end_tolerance(SIGMA_N) + 1 / FS
+    assert peak == pytest.approx(REBOUND.F_max, rel=0.02)
+
+
+def test_a_second_impact_merged_into_the_first_is_cut_at_the_dip():
+    """The second strike begins at 0.8·t_c, before the first has ended: the force dips
+    (to ~30 % of the smaller hump) and rises again. The window ends at the dip, so the
+    analysis keeps to the first impact (its peak, not the sum of the two)."""
+    t2 = T0 + 0.8 * IMPACT.t_c
+    rec = sensor_record(extra=lambda t: hertz_pulse(t - t2, REBOUND)["F"])
+    with pytest.warns(MultipleImpactWarning, match="the window ends at that dip"):
+        w = find_contact(rec)
+    truth = rec["time"].values
+    both = hertz_pulse(truth - T0, IMPACT)["F"] + hertz_pulse(truth - t2, REBOUND)["F"]
+    inside = (truth > T0 + 0.5 * IMPACT.t_c) & (truth < t2 + 0.5 * REBOUND.t_c)
+    t_dip = truth[inside][np.argmin(both[inside])]
+    assert abs(w.t_end - t_dip) <= 3 / FS  # the noisy minimum of a shallow valley
+    assert w.peak == pytest.approx(IMPACT.F_max, rel=0.01)
+
+
+def test_a_clipped_pulse_is_refused():
+    """An ADC that saturates at 80 % of the peak: a flat top of ~30 samples at the
+    channel's maximum, against a baseline whose noise (σ = 2 N) never repeats a value."""
+    rec = sensor_record()
+    fn = rec["Fn"].values.copy()
+    top = 0.8 * IMPACT.F_max + OFFSET_N
+    fn = np.minimum(fn, top)
+    n_flat = int(np.count_nonzero(fn == top))
+    assert n_flat > 10
+    with pytest.raises(ClippedSignalError, match=f"{n_flat} consecutive samples") as info:
+        find_contact(_with_fn(rec, fn))
+    assert info.value.column == "Fn" and "saturated" in str(info.value)
+
+
+def test_a_quantised_noise_free_top_is_not_clipping():
+    """A noise-free record through a 16-bit ADC over 5 kN (step 0.076 N) repeats its top
+    value a few times by right: the flat-run rule needs 10 % of the pulse there."""
+    rec = sensor_record(sigma_n=0.0)
+    q = 5000.0 / 2**16
+    w = find_contact(_with_fn(rec, np.round(rec["Fn"].values / q) * q))
+    assert abs(w.t_start - T0) < end_tolerance(q)
+
+
+def test_a_digitised_curve_with_negative_fn_is_refused():
+    t = np.linspace(0.0, IMPACT.t_c, 30)
+    F = hertz_pulse(t, IMPACT)["F"]
+    rec = make_record(
+        t,
+        {"Fn": -F, "Ft": 0.1 * F},
+        attrs={"source": "fn.csv", "format": "wpd", "kind": "digitised"},
+    )
+    with pytest.raises(SignFlipError, match="fn.csv: the digitised Fn is all negative"):
+        find_contact(rec)

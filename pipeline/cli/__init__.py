@@ -2,26 +2,31 @@
 
 ``python -m pipeline.cli reproduce --samples data_samples --out build/reproduce`` is what
 ``make reproduce`` runs. Each subcommand module has ``register(subparsers)``, which adds
-its parser and sets ``func``; :func:`main` runs it and turns an
-:class:`~pipeline.errors.InputError` into a one-line message and exit status 2.
+its parser and sets ``func``; :func:`main` runs it.
+
+Exit statuses (:data:`pipeline.cli._common.EXIT_CODES`): 0 success; 1 some records failed
+(``reproduce``: the rest were processed); 2 bad input or a bad argument — one line,
+``error: ...``, never a traceback; 3 an internal error (a bug; ``-v`` shows the
+traceback).
 """
 
 from __future__ import annotations
 
-import argparse
 import logging
 import sys
+import traceback
 
 from ..errors import InputError
 from . import analyse, reproduce
+from ._common import EXIT_BAD_INPUT, EXIT_CODES, EXIT_INTERNAL, Parser
 
 #: The subcommand modules, in the order ``pipeline --help`` lists them.
 COMMANDS = (reproduce, analyse)
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(
-        prog="pipeline", description="Impact-force histories to physics."
+    parser = Parser(
+        prog="pipeline", description="Impact-force histories to physics.", epilog=EXIT_CODES
     )
     parser.add_argument("-v", "--verbose", action="store_true", help="log the warnings too")
     sub = parser.add_subparsers(dest="command", required=True)
@@ -35,8 +40,24 @@ def main(argv=None) -> int:
     try:
         return args.func(args)
     except InputError as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return 2
+        print(f"error: {_one_line(str(exc))}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    except OSError as exc:  # the output cannot be written: a full disk, no permission
+        print(f"error: {_one_line(str(exc))}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    except Exception as exc:  # a bug: one line (the traceback with -v), never a crash dump
+        if args.verbose:
+            traceback.print_exc(file=sys.stderr)
+        print(
+            f"error: internal error ({type(exc).__name__}: {_one_line(str(exc))}); run with "
+            "-v for the traceback and report it",
+            file=sys.stderr,
+        )
+        return EXIT_INTERNAL
+
+
+def _one_line(text: str) -> str:
+    return " ".join(text.split())
 
 
 if __name__ == "__main__":

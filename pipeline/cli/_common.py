@@ -1,7 +1,9 @@
-"""What the commands share: the scene of a record, and warnings turned into log lines."""
+"""What the commands share: reading a record and its scene as Python does, argument
+parsing that answers a bad argument in one line, and warnings turned into log lines."""
 
 from __future__ import annotations
 
+import argparse
 import contextlib
 import json
 import logging
@@ -10,30 +12,144 @@ from pathlib import Path
 
 from ..errors import InputError
 
+#: Exit statuses of every command (``pipeline --help`` lists them).
+EXIT_OK, EXIT_FAILED_RECORDS, EXIT_BAD_INPUT, EXIT_INTERNAL = 0, 1, 2, 3
+EXIT_CODES = (
+    "exit status: 0 success; 1 some records failed (reproduce: the others were processed "
+    "and the failures are listed in summary.json and report.md); 2 bad input or a bad "
+    "argument (a one-line message says which); 3 an internal error (a bug: run with -v "
+    "for the traceback, and report it)"
+)
 
-def read_scene(record_path, scene_path=None):
-    """The scene from ``--scene`` (a JSON file of Scene fields), else the record's sidecar."""
-    from ..report import scene_from_sidecar
-    from ..scene import Scene
 
-    if scene_path:
-        return Scene.from_dict(json.loads(Path(scene_path).read_text(encoding="utf-8")))
-    scene = scene_from_sidecar(record_path)
-    if scene is None:
+class Parser(argparse.ArgumentParser):
+    """An ArgumentParser whose errors are one line (``error: ...``) and exit status 2."""
+
+    def error(self, message):
+        self.exit(EXIT_BAD_INPUT, f"error: {self.prog}: {message} (see {self.prog} --help)\n")
+
+
+def parse_axes(text: str) -> dict:
+    """``--axes``: ``Fn=Fz,Ft=-Fx`` or a JSON object ``{"Fn": "Fz", "Ft": "-Fx"}``."""
+    text = text.strip()
+    if text.startswith("{"):
+        try:
+            value = json.loads(text)
+        except ValueError as exc:
+            raise argparse.ArgumentTypeError(f"not a JSON object ({exc})") from None
+        if not isinstance(value, dict):
+            raise argparse.ArgumentTypeError('give a JSON object such as {"Fn": "Fz"}')
+        return value
+    out = {}
+    for part in filter(None, (p.strip() for p in text.split(","))):
+        name, sep, column = part.partition("=")
+        if not sep or not name.strip():
+            raise argparse.ArgumentTypeError(
+                f"{part!r} is not CHANNEL=COLUMN; write e.g. Fn=Fz,Ft=-Fx"
+            )
+        out[name.strip()] = column.strip() or None
+    if not out:
+        raise argparse.ArgumentTypeError("empty; write e.g. Fn=Fz,Ft=-Fx")
+    return out
+
+
+def add_record_options(p) -> None:
+    """The options that say how to read a record, as :func:`pipeline.io.load` takes them."""
+    g = p.add_argument_group(
+        "reading the record (as pipeline.io.load; the sidecar's "
+        "'load' block supplies what is not given)"
+    )
+    g.add_argument("--time-unit", help="time unit of a file without one: s, ms, us, ns")
+    g.add_argument("--force-unit", help="force unit of a file without one: N, kN, mN, lbf")
+    g.add_argument(
+        "--axes",
+        type=parse_axes,
+        metavar="MAP",
+        help="record channel ← file column, a leading '-' flips the sign: Fn=Fz,Ft=-Fx",
+    )
+    g.add_argument(
+        "--decouple",
+        type=Path,
+        metavar="FILE",
+        help="3×3 decoupling matrix of the sensor (CSV rows or JSON), applied to raw "
+        "(Fx, Fy, Fz) before the axis map",
+    )
+
+
+#: Files above this size are read keeping only the contact and its margins
+#: (pipeline.io.load_contact): memory stays bounded whatever the file's length.
+BIG_FILE = 64 << 20
+
+
+def read_record(path, args):
+    """The record at ``path`` read with the command's options over its sidecar's; a file
+    over :data:`BIG_FILE` bytes streamed, keeping only its first contact."""
+    from ..report import load_sample
+
+    try:
+        big = Path(path).stat().st_size > BIG_FILE
+    except OSError:
+        big = False  # the reader says what is wrong with the path
+    return load_sample(
+        path,
+        contact_only=big,
+        time_unit=args.time_unit,
+        force_unit=args.force_unit,
+        axes=args.axes,
+        decouple=args.decouple,
+    )
+
+
+def read_scene(record_path, scene_path=None, record=None):
+    """The scene of a record, and where each field came from.
+
+    From ``--scene`` (a JSON file of Scene fields, or a sidecar with a ``"scene"``), else
+    the record's sidecar; fields neither gives are filled from the record's metadata
+    where it states them with units (:func:`pipeline.io.scene_from_metadata`).
+
+    Returns
+    -------
+    (Scene, dict)
+        The scene and ``{field: source}``.
+    """
+    from ..io import scene_from_metadata
+    from ..report import sidecar_path
+    from ..scene import Scene, read_scene_fields
+
+    fields, origin = {}, None
+    if scene_path is not None:
+        fields, origin = read_scene_fields(scene_path), Path(scene_path)
+    else:
+        side = sidecar_path(record_path)
+        if side.exists() or side.is_symlink():
+            from ..report import read_sidecar
+
+            data = read_sidecar(record_path)
+            if "scene" in data:
+                fields, origin = read_scene_fields(side), side
+    sources = {k: f"scene file {origin.name}" for k in fields}
+    if record is not None:
+        for name, (value, note) in scene_from_metadata(record).items():
+            if fields.get(name) is None:
+                fields[name] = value
+                sources[name] = note
+    if not fields:
         raise InputError(
-            "no scene: give --scene scene.json (Scene fields in SI units) "
-            "or put a sidecar <record>.json with a 'scene' beside the file",
+            "no scene: give --scene scene.json (Scene fields in SI units), put a sidecar "
+            "<record>.json with a 'scene' beside the file, or state the impact in the "
+            "record's metadata with units ('# impact speed [m/s]: 0.6')",
             path=record_path,
         )
-    return scene
+    return Scene.from_dict(fields, path=origin or record_path), sources
 
 
 @contextlib.contextmanager
 def log_warnings():
-    """The library's warnings (poor fits, fallbacks) reach the user as log lines naming the
-    problem, not as Python warnings pointing into the library's source."""
+    """The library's warnings (poor fits, plausibility) reach the user as log lines naming
+    the problem, each once, not as Python warnings pointing into the library's source."""
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         yield
-    for w in caught:
-        logging.getLogger("pipeline").warning("%s: %s", w.category.__name__, w.message)
+    seen = dict.fromkeys((w.category.__name__, str(w.message)) for w in caught)
+    for name, message in seen:
+        logging.getLogger("pipeline").warning("%s: %s", name, message)

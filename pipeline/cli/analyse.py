@@ -5,24 +5,35 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from ._common import log_warnings, read_scene
+from ._common import EXIT_CODES, add_record_options, log_warnings, read_record, read_scene
 
 
 def register(sub) -> None:
-    p = sub.add_parser("analyse", help="analyse one record; prints the JSON summary")
+    p = sub.add_parser(
+        "analyse",
+        help="analyse one record; prints the JSON summary",
+        description="Analyse one record against Routh's rigid model and print the JSON "
+        "summary. The record is read as pipeline.io.load reads it (units, axes, the "
+        "sidecar's 'load' block); the scene comes from --scene, else the sidecar, with "
+        "fields neither gives taken from the record's metadata where it states them with "
+        "units.",
+        epilog=EXIT_CODES,
+    )
     p.add_argument("file", type=Path)
-    p.add_argument("--scene", type=Path, help="JSON file of Scene fields (SI units)")
-    p.add_argument("--boot", default=200, type=int)
+    p.add_argument("--scene", type=Path, help="JSON file of Scene fields (SI units), or a sidecar")
+    p.add_argument("--boot", default=200, type=int, help="bootstrap replicates")
     p.add_argument("--seed", default=0, type=int)
+    add_record_options(p)
     p.set_defaults(func=run)
 
 
 def run(args) -> int:
-    from .. import analyse
-    from ..io import load
+    from ..report import check_and_analyse
 
-    scene = read_scene(args.file, args.scene)
+    record = read_record(args.file, args)
+    scene, sources = read_scene(args.file, args.scene, record)
     with log_warnings():
-        a = analyse(load(args.file), scene, n_boot=args.boot, seed=args.seed)
-    print(json.dumps(a.summary(), indent=1, allow_nan=False))  # strict JSON already
+        a, checks = check_and_analyse(record, scene, n_boot=args.boot, seed=args.seed)
+    out = {**a.summary(), "scene_sources": sources, "plausibility": checks.summary()}
+    print(json.dumps(out, indent=1, allow_nan=False))  # strict JSON already
     return 0

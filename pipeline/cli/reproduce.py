@@ -5,9 +5,19 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
+from ._common import EXIT_CODES, EXIT_FAILED_RECORDS, EXIT_OK
+
 
 def register(sub) -> None:
-    p = sub.add_parser("reproduce", help="the seed's figures and verdict on the samples")
+    p = sub.add_parser(
+        "reproduce",
+        help="the seed's figures and verdict on the samples",
+        description="Analyse every sample, draw the seed's figures for the main record and "
+        "write summary.json and report.md. A record that fails is listed with its reason "
+        "and the others go on; the output folder is replaced in one rename, so it holds "
+        "the previous run or this one, never a mix.",
+        epilog=EXIT_CODES,
+    )
     p.add_argument("--samples", default="data_samples", type=Path)
     p.add_argument("--out", default="build/reproduce", type=Path)
     p.add_argument("--boot", default=200, type=int, help="bootstrap replicates")
@@ -20,12 +30,14 @@ def run(args) -> int:
 
     t0 = time.perf_counter()
     summary = reproduce(args.samples, args.out, n_boot=args.boot, seed=args.seed)
-    n_ok = sum("error" not in r for r in summary["records"])
+    n = summary["n_records"]
     print(
-        f"{n_ok}/{len(summary['records'])} records processed in "
+        f"{n - summary['n_failed']}/{n} records processed in "
         f"{time.perf_counter() - t0:.1f} s → {args.out}/"
     )
-    for key, ok in summary["findings"].items():
+    for key, ok in (summary["findings"] or {}).items():
         if key != "text":
             print(f"  {key}: {'holds' if ok else 'does not hold'}")
-    return 0
+    for name, error in summary["failures"].items():
+        print(f"  failed: {name}: {error}")
+    return EXIT_OK if not summary["failures"] else EXIT_FAILED_RECORDS

@@ -22,19 +22,25 @@ import re
 
 from ..errors import InputError
 from ..record import validate
-from ._common import LINE_END, decode, file_path, scene_attrs
+from ._common import LINE_END, decode, file_path, read_decoupling, read_json, scene_attrs
+from .metadata import scene_from_metadata
 from .sensor import read_sensor, write_sensor
+from .stream import load_contact
 from .tdms import read_tdms
 from .wpd import is_datasets_text, read_wpd
 
 __all__ = [
     "load",
+    "load_contact",
     "sniff_format",
     "validate",
     "read_sensor",
     "write_sensor",
     "read_wpd",
     "read_tdms",
+    "read_json",
+    "read_decoupling",
+    "scene_from_metadata",
     "FORMATS",
 ]
 
@@ -103,7 +109,16 @@ def sniff_format(path) -> str:
     return "sensor_csv"
 
 
-def load(path, *, time_unit=None, force_unit=None, axes=None, channels=None, **scene_fields):
+def load(
+    path,
+    *,
+    time_unit=None,
+    force_unit=None,
+    axes=None,
+    channels=None,
+    decouple=None,
+    **scene_fields,
+):
     """Read a record file of any supported format.
 
     Parameters
@@ -123,6 +138,11 @@ def load(path, *, time_unit=None, force_unit=None, axes=None, channels=None, **s
         default ``{"Fn": "Fz", "Ft": "Fx", "Fy": "Fy"}`` (see :mod:`pipeline.io.sensor`).
     channels : str, list or dict, optional
         Digitised files: which dataset is which channel (see :func:`read_wpd`).
+    decouple : array_like or path, optional
+        Sensor CSV and TDMS: the sensor's 3×3 decoupling (calibration) matrix, or a file
+        holding it (:func:`read_decoupling`). It maps the raw (Fx, Fy, Fz), in N, to
+        corrected forces before the axis map; the attributes record it
+        (``decouple_matrix``, ``decouple_axes``, ``decouple_source``, ``decouple_sha256``).
     **scene_fields : float
         Scene fields (names as :meth:`pipeline.Scene.field_names`, SI units) stored in the
         record's attributes.
@@ -151,6 +171,7 @@ def load(path, *, time_unit=None, force_unit=None, axes=None, channels=None, **s
     scene_attrs(scene_fields)  # fail early on a bad keyword, before reading anything
     if isinstance(path, dict | list | tuple):
         _refuse(axes=axes, fmt="digitised exports", hint="use channels=")
+        _refuse(decouple=decouple, fmt="digitised exports", hint="they hold no raw axes")
         return read_wpd(
             path, time_unit=time_unit, force_unit=force_unit, channels=channels, **scene_fields
         )
@@ -158,14 +179,25 @@ def load(path, *, time_unit=None, force_unit=None, axes=None, channels=None, **s
     if fmt == "sensor_csv":
         _refuse(channels=channels, fmt="sensor CSV files", hint="use axes= to map columns")
         return read_sensor(
-            path, time_unit=time_unit, force_unit=force_unit, axes=axes, **scene_fields
+            path,
+            time_unit=time_unit,
+            force_unit=force_unit,
+            axes=axes,
+            decouple=decouple,
+            **scene_fields,
         )
     if fmt == "tdms":
         _refuse(channels=channels, fmt="TDMS files", hint="use axes= to map channels")
         return read_tdms(
-            path, time_unit=time_unit, force_unit=force_unit, axes=axes, **scene_fields
+            path,
+            time_unit=time_unit,
+            force_unit=force_unit,
+            axes=axes,
+            decouple=decouple,
+            **scene_fields,
         )
     _refuse(axes=axes, fmt="digitised exports", hint="use channels= to name datasets")
+    _refuse(decouple=decouple, fmt="digitised exports", hint="they hold no raw axes")
     return read_wpd(
         path, time_unit=time_unit, force_unit=force_unit, channels=channels, **scene_fields
     )

@@ -32,6 +32,10 @@ __all__ = [
     "meta_key",
     "first_non_increase",
     "LINE_END",
+    "read_json",
+    "read_decoupling",
+    "decouple_columns",
+    "DECOUPLE_AXES",
 ]
 
 #: Default map from record channel to tri-axial column (the seed's sensor: Oz normal,
@@ -53,19 +57,31 @@ PLANE_TOLERANCE = 0.05
 
 
 class BackgroundHash:
-    """SHA-256 of a bytes object computed in a thread (hashlib releases the GIL), so a large
-    file is hashed while pandas' C parser, which also releases it, tokenises the table."""
+    """SHA-256 of a bytes object, or of a file read in blocks, computed in a thread (hashlib
+    and file reads release the GIL), so a large file is hashed while pandas' C parser, which
+    also releases it, tokenises the table."""
 
-    def __init__(self, raw: bytes):
+    def __init__(self, source):
         self._digest = None
-        self._thread = threading.Thread(target=self._run, args=(raw,), daemon=True)
+        self._error = None
+        self._path = None if isinstance(source, bytes | bytearray | memoryview) else source
+        self._thread = threading.Thread(target=self._run, args=(source,), daemon=True)
         self._thread.start()
 
-    def _run(self, raw):
-        self._digest = hashlib.sha256(raw).hexdigest()
+    def _run(self, source):
+        try:
+            if isinstance(source, bytes | bytearray | memoryview):
+                self._digest = hashlib.sha256(source).hexdigest()
+            else:
+                with open(source, "rb") as fh:
+                    self._digest = hashlib.file_digest(fh, "sha256").hexdigest()
+        except OSError as exc:  # the file vanished or became unreadable meanwhile
+            self._error = exc
 
     def hexdigest(self) -> str:
         self._thread.join()
+        if self._error is not None:
+            raise InputError(f"cannot read the file ({self._error})", path=self._path)
         return self._digest
 
 
@@ -203,16 +219,20 @@ def check_plane(forces: dict, path) -> None:
             f"{100 * ratio:.1f} % of the normal peak |Fn| = {peak_n:.4g} N (> "
             f"{100 * PLANE_TOLERANCE:.0f} %); the plane-impact assumption is doubtful",
             PlaneImpactWarning,
-            stacklevel=_caller_level(),
+            stacklevel=caller_level(),
         )
 
 
-def _caller_level() -> int:
-    """``stacklevel`` that points a warning at the first frame outside pipeline.io (the
-    readers are reached through one to three calls: load → read_sensor → ...)."""
-    here = os.path.dirname(os.path.abspath(__file__))
+def caller_level(where=None) -> int:
+    """``stacklevel`` that points a warning at the first frame outside ``where`` (a folder,
+    or one module's file; default pipeline.io, whose readers are reached through one to
+    three calls: load → read_sensor → ...). Call it from the function that warns."""
+    where = os.path.dirname(os.path.abspath(__file__)) if where is None else str(where)
+    inside = (
+        (lambda f: f == where) if where.endswith(".py") else (lambda f: os.path.dirname(f) == where)
+    )
     frame, level = sys._getframe(1), 1  # the frame that calls warnings.warn
-    while frame is not None and os.path.dirname(frame.f_code.co_filename) == here:
+    while frame is not None and inside(frame.f_code.co_filename):
         frame, level = frame.f_back, level + 1
     return level
 
@@ -295,3 +315,156 @@ def resolve_axes(columns: dict, axes, p: Path, *, others: dict | None = None, li
             line=line,
         )
     return chosen
+
+
+def read_json(path, *, what: str = "JSON file") -> dict:
+    """A JSON file holding one object, read strictly.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+    what : str — what the file is, for messages (``"scene file"``, ``"sidecar"``)
+
+    Raises
+    ------
+    InputError
+        Missing file, a directory, unreadable or not UTF-8, malformed JSON (line and
+        column named), nesting too deep, a key given twice, or a value that is not an
+        object.
+    """
+    import json
+
+    p = Path(os.fspath(path))
+    if p.is_dir():
+        raise InputError(f"the {what} is a directory; give the path of a JSON file", path=p)
+    try:
+        raw = p.read_bytes()
+    except FileNotFoundError:
+        raise InputError(f"no such {what}; check the path", path=p) from None
+    except OSError as exc:
+        raise InputError(f"cannot read the {what} ({exc.strerror or exc})", path=p) from exc
+    try:
+        text = raw.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise InputError(
+            f"the {what} is not UTF-8 text (bytes at offset {exc.start}); save it as UTF-8",
+            path=p,
+            line=raw[: exc.start].count(b"\n") + 1,
+        ) from None
+
+    def pairs(items):
+        seen = {}
+        for key, value in items:
+            if key in seen:
+                raise InputError(f"key {key!r} appears twice in the {what}; keep one", path=p)
+            seen[key] = value
+        return seen
+
+    try:
+        data = json.loads(text, object_pairs_hook=pairs)
+    except json.JSONDecodeError as exc:
+        raise InputError(
+            f"the {what} is not valid JSON: {exc.msg}", path=p, line=exc.lineno, column=exc.colno
+        ) from None
+    except RecursionError:
+        raise InputError(f"the {what} nests too deeply to be read", path=p) from None
+    if not isinstance(data, dict):
+        raise InputError(
+            f"the {what} must hold a JSON object {{...}}, not a {type(data).__name__}", path=p
+        )
+    return data
+
+
+# ------------------------------------------------------------------ cross-talk decoupling
+#: Order of the raw axes a decoupling matrix acts on.
+DECOUPLE_AXES = ("Fx", "Fy", "Fz")
+
+
+def read_decoupling(spec) -> tuple[np.ndarray, dict]:
+    """A sensor's 3×3 decoupling matrix and its provenance attributes.
+
+    Parameters
+    ----------
+    spec : array_like or str or os.PathLike
+        The matrix (rows: corrected Fx, Fy, Fz; columns: raw Fx, Fy, Fz), or a file
+        holding it: ``.json`` (``[[...], [...], [...]]`` or ``{"matrix": [[...]...]}``),
+        ``.npy``, or text with three rows of three numbers (separated by commas,
+        semicolons or spaces; ``#`` lines are comments) — a calibration sheet's export.
+
+    Returns
+    -------
+    (numpy.ndarray, dict)
+        The matrix, and attributes ``decouple_matrix`` (the nine numbers, row-major),
+        ``decouple_axes`` (``"Fx,Fy,Fz"``), ``decouple_source`` (file name or ``"array"``)
+        and, for a file, ``decouple_sha256``.
+
+    Raises
+    ------
+    InputError
+        A file that cannot be read or parsed, or a matrix that is not 3×3, finite and
+        invertible.
+    """
+    if isinstance(spec, str | os.PathLike):
+        p, raw, sha = read_raw(spec)
+        src = p
+        try:
+            if p.suffix.lower() == ".npy":
+                import io as _io
+
+                matrix = np.load(_io.BytesIO(raw), allow_pickle=False)
+            elif p.suffix.lower() == ".json":
+                data = read_json(p, what="decoupling matrix file")
+                matrix = data.get("matrix")
+                if matrix is None:
+                    raise InputError(
+                        'the decoupling JSON needs a "matrix": [[...], [...], [...]]', path=p
+                    )
+            else:
+                rows = [
+                    [float(x) for x in re.split(r"[,;\s]+", ln.strip()) if x]
+                    for ln in decode(raw, p).splitlines()
+                    if ln.strip() and not ln.lstrip().startswith("#")
+                ]
+                matrix = rows
+        except InputError:
+            raise
+        except Exception as exc:  # numpy's .npy reader raises many types on a corrupt file
+            raise InputError(
+                f"cannot read a 3×3 decoupling matrix ({exc}); write three rows of three numbers",
+                path=p,
+            ) from None
+        attrs = {"decouple_source": p.name, "decouple_sha256": sha}
+    else:
+        matrix, src, attrs = spec, None, {"decouple_source": "array"}
+    try:
+        m = np.array(matrix, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(
+            f"the decoupling matrix must be 3×3 numbers, got {matrix!r}", path=src
+        ) from None
+    if m.shape != (3, 3) or not np.all(np.isfinite(m)):
+        raise InputError(
+            f"the decoupling matrix must be 3×3 and finite (rows corrected Fx, Fy, Fz; "
+            f"columns raw Fx, Fy, Fz), got shape {m.shape}",
+            path=src,
+        )
+    if np.linalg.cond(m) > 1e12:
+        raise InputError("the decoupling matrix is singular; check its entries", path=src)
+    attrs["decouple_matrix"] = ",".join(repr(float(x)) for x in m.ravel())
+    attrs["decouple_axes"] = ",".join(DECOUPLE_AXES)
+    return m, attrs
+
+
+def decouple_columns(columns: dict, matrix: np.ndarray, path) -> dict:
+    """``columns`` with Fx, Fy, Fz [N] replaced by ``matrix @ (Fx, Fy, Fz)``."""
+    missing = [c for c in DECOUPLE_AXES if c not in columns]
+    if missing:
+        raise InputError(
+            f"decouple= needs the raw Fx, Fy and Fz columns; the file has no {', '.join(missing)}",
+            path=path,
+        )
+    raw = [columns[c] for c in DECOUPLE_AXES]
+    out = dict(columns)
+    for i, c in enumerate(DECOUPLE_AXES):
+        out[c] = matrix[i, 0] * raw[0] + matrix[i, 1] * raw[1] + matrix[i, 2] * raw[2]
+    return out

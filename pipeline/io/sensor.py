@@ -54,22 +54,28 @@ import pandas as pd
 from ..errors import InputError
 from ..record import make_record
 from ._common import (
+    DECOUPLE_AXES,
     DEFAULT_AXES,
     FORCE_COLUMNS,
     LINE_END,
     NONFINITE,
     NUMBER,
+    BackgroundHash,
     atomic_write_text,
     base_attrs,
     canonical_column,
     check_plane,
     decode,
+    decouple_columns,
+    file_path,
     first_non_increase,
     meta_key,
+    read_decoupling,
     read_raw,
     resolve_axes,
     scene_attrs,
 )
+from .metadata import check_sample_rate
 from .units import resolve_unit, split_unit, time_factor
 
 __all__ = ["read_sensor", "write_sensor", "DEFAULT_AXES"]
@@ -153,7 +159,17 @@ def write_sensor(record, path, *, metadata: dict | None = None) -> Path:
 
 
 # ------------------------------------------------------------------------------ reader
-def read_sensor(path, *, time_unit=None, force_unit=None, axes=None, encoding=None, **scene_fields):
+def read_sensor(
+    path,
+    *,
+    time_unit=None,
+    force_unit=None,
+    axes=None,
+    encoding=None,
+    decouple=None,
+    _crop=None,
+    **scene_fields,
+):
     """Read a lab sensor CSV into a record.
 
     Parameters
@@ -168,6 +184,10 @@ def read_sensor(path, *, time_unit=None, force_unit=None, axes=None, encoding=No
         Record channel → file column, sign by a leading ``-`` (see module notes).
     encoding : str, optional
         Text encoding when the file is not UTF-8/UTF-16-with-BOM (e.g. ``"cp1252"``).
+    decouple : array_like or path, optional
+        The sensor's 3×3 decoupling matrix (or a file holding it, see
+        :func:`pipeline.io.read_decoupling`), applied to the raw (Fx, Fy, Fz) in N before
+        the axis map; its provenance goes in the attributes (``decouple_*``).
     **scene_fields : float
         Scene fields stored in the record's attributes (names as :class:`pipeline.Scene`).
 
@@ -187,7 +207,12 @@ def read_sensor(path, *, time_unit=None, force_unit=None, axes=None, encoding=No
         When max|Fy| exceeds 5 % of max|Fn|.
     """
     scene = scene_attrs(scene_fields)
-    p, raw, sha = read_raw(path, background_hash=True)
+    matrix = None if decouple is None else read_decoupling(decouple)
+    head = _stream_head(path) if encoding is None else None
+    if head is not None:  # a large UTF-8 file: the parser reads it, not a copy in memory
+        p, raw, sha = file_path(path), head, BackgroundHash(file_path(path))
+    else:
+        p, raw, sha = read_raw(path, background_hash=True)
     return parse_sensor_bytes(
         raw,
         p,
@@ -197,7 +222,32 @@ def read_sensor(path, *, time_unit=None, force_unit=None, axes=None, encoding=No
         axes=axes,
         scene=scene,
         encoding=encoding,
+        decouple=matrix,
+        head_only=head is not None,
+        crop=_crop,
     )
+
+
+#: Files larger than this are streamed from disk to the parser (their head read first);
+#: smaller ones are read whole (one read, and the hash from memory).
+STREAM_BYTES = 1 << 20
+_HEAD_BYTES = 1 << 16
+
+
+def _stream_head(path) -> bytes | None:
+    """The first 64 KiB of a large file that may be streamed, or None to read it whole
+    (small, UTF-16, or without a line feed in its head: bare-CR line ends are rewritten)."""
+    p = file_path(path)
+    try:
+        if p.stat().st_size <= STREAM_BYTES:
+            return None
+        with open(p, "rb") as fh:
+            head = fh.read(_HEAD_BYTES)
+    except OSError:
+        return None  # read_raw gives the message
+    if head.startswith((b"\xff\xfe", b"\xfe\xff")) or b"\n" not in head:
+        return None
+    return head
 
 
 # --------------------------------------------------------------------- the text parser
@@ -225,7 +275,11 @@ def _split_head(text: str, p: Path):
             body = stripped.lstrip("#").strip()
             m = re.match(r"^([^:=]+?)\s*[:=]\s*(.*)$", body)
             if m:
-                meta[meta_key(m.group(1))] = m.group(2).strip()
+                key, value = m.group(1), m.group(2).strip()
+                name, unit = split_unit(key)  # "impact speed [m/s]: 0.6" → "0.6 m/s"
+                if unit and name:
+                    key, value = name, f"{value} {unit}"
+                meta[meta_key(key)] = value
             elif body:
                 comments.append(body)
         elif stripped:
@@ -259,16 +313,38 @@ def _sniff_decimal(sample: str, sep: str) -> str:
     return "," if "," in sample else "."
 
 
-class _LazyText:
-    """A UTF-8 body kept as bytes; decoded only when an error message needs its lines."""
+class _Skip:
+    """The body of a file on disk: its first ``rows`` lines are the head."""
 
-    def __init__(self, raw: bytes, offset: int, p: Path, header_line: int):
-        self.raw, self.offset, self.p, self.header_line = raw, offset, p, header_line
+    def __init__(self, path: Path, rows: int):
+        self.path, self.rows = path, rows
+
+    def close(self):
+        pass
+
+
+class _LazyText:
+    """A UTF-8 body kept as bytes; decoded only when an error message needs its lines.
+
+    ``raw`` may hold only the file's head (a large file streamed to the parser): the rest
+    is read from ``p`` when an error message needs it.
+    """
+
+    def __init__(self, raw: bytes, offset: int, p: Path, header_line: int, *, head_only=False):
+        self._raw, self.offset, self.p, self.header_line = raw, offset, p, header_line
+        self._head_only = head_only
+
+    @property
+    def raw(self) -> bytes:
+        if self._head_only:
+            self._raw, self._head_only = read_raw(self.p)[1], False
+        return self._raw
 
     def __getitem__(self, item: slice):
         start = self.offset + (item.start or 0)
         stop = self.offset + item.stop
-        return self.raw[start:stop].decode("utf-8", errors="replace")
+        raw = self._raw if self._head_only and stop <= len(self._raw) else self.raw
+        return raw[start:stop].decode("utf-8", errors="replace")
 
     @property
     def data(self) -> bytes:
@@ -468,18 +544,52 @@ def parse_sensor_bytes(
     scene=None,
     encoding=None,
     fmt="sensor_csv",
+    decouple=None,
+    head_only=False,
+    crop=None,
 ):
-    """Parse the bytes of a sensor CSV (``p`` and ``sha`` for messages and attributes)."""
+    """Parse the bytes of a sensor CSV (``p`` and ``sha`` for messages and attributes;
+    ``decouple`` the ``(matrix, attrs)`` of :func:`~pipeline.io._common.read_decoupling`;
+    ``head_only``: ``raw`` is the file's head and the body is streamed from ``p``; ``crop``
+    a :class:`pipeline.io.stream.Cropper` that keeps only the contact of a streamed body)."""
     raw, head, body_offset, full_text = _head_and_body(raw, p, encoding)
+    if head_only and body_offset + 4096 > len(raw):  # the head does not hold the header
+        return parse_sensor_bytes(
+            read_raw(p)[1], p, sha, time_unit=time_unit, force_unit=force_unit, axes=axes,
+            scene=scene, encoding=encoding, fmt=fmt, decouple=decouple, crop=crop,
+        )  # fmt: skip
     meta, header, header_line, body_start, sep = _split_head(head, p)
     if full_text is not None:
         body = full_text[body_start:]
         body_source = io.StringIO(body)
+    elif head_only:
+        # pandas reads the file itself, skipping the head's lines (faster than through a
+        # Python file object) — where a line of the head is a line to its tokenizer: no
+        # quote that could join lines, no blank line it would not count
+        lines = head.splitlines()
+        plain = '"' not in head and all(ln.strip() for ln in lines) and len(lines) == header_line
+        body_source = _Skip(p, header_line) if plain else open(p, "rb")  # noqa: SIM115
+        body = _LazyText(raw, body_offset, p, header_line, head_only=True)
     else:
         # BytesIO over the bytes object shares its buffer: no copy of a large file.
         body_source = io.BytesIO(raw)
         body_source.seek(body_offset)
         body = _LazyText(raw, body_offset, p, header_line)
+    try:
+        return _parse_table(
+            body, body_source, body_offset, full_text, meta, header, header_line, sep, p,
+            sha, time_unit=time_unit, force_unit=force_unit, axes=axes, scene=scene,
+            fmt=fmt, decouple=decouple, crop=crop,
+        )  # fmt: skip
+    finally:
+        body_source.close()
+
+
+def _parse_table(
+    body, body_source, body_offset, full_text, meta, header, header_line, sep, p, sha, *,
+    time_unit, force_unit, axes, scene, fmt, decouple, crop=None,
+):  # fmt: skip
+    """The table after the head: columns, units, the parse, the checks, the record."""
     sep = sep or _sniff_separator(header, p, header_line)
     dec = _sniff_decimal(body[:4096], sep)
     raw_names = [h.strip().strip('"').strip() for h in header.split(sep)]
@@ -489,17 +599,27 @@ def parse_sensor_bytes(
     t_factor, t_unit = resolve_unit(
         "time", time_col[2], time_unit, path=p, column=time_col[1], line=header_line
     )
-    f_factors = {}
-    for name, (col, _) in chosen.items():
+    matrix, decouple_attrs = decouple if decouple is not None else (None, {})
+    needed = [col for col, _ in chosen.values()]
+    if matrix is not None:
+        missing = [c for c in DECOUPLE_AXES if c not in force_cols]
+        if missing:
+            raise InputError(
+                f"decouple= needs the raw Fx, Fy and Fz columns; the header has no "
+                f"{', '.join(missing)}",
+                path=p,
+                line=header_line,
+            )
+        needed += [c for c in DECOUPLE_AXES if c not in needed]
+    f_factors = {}  # file column → (factor to N, unit)
+    for col in needed:
         _, h, unit = columns[col]
-        f_factors[name] = resolve_unit(
-            "force", unit, force_unit, path=p, column=h, line=header_line
-        )
-    f_units = {u for _, u in f_factors.values()}
+        f_factors[col] = resolve_unit("force", unit, force_unit, path=p, column=h, line=header_line)
+    f_units = {f_factors[col][1] for col, _ in chosen.values()}
 
     # The body: pandas' C parser, no Python loop over rows.
     wanted = {time_col[0]: "time"}
-    for col, _sign in chosen.values():
+    for col in needed:
         wanted[columns[col][0]] = col
     names = [wanted.get(j) for j in range(len(raw_names))]
     ignored = [h for j, h in enumerate(raw_names) if h and j not in wanted]
@@ -513,14 +633,20 @@ def parse_sensor_bytes(
         pd.errors.ParserWarning,
     )
 
-    def parse(decimal):
-        body_source.seek(0 if full_text is not None else body_offset)
+    def parse(decimal, chunksize=None):
+        skip = {}
+        if isinstance(body_source, _Skip):
+            source, skip = str(body_source.path), {"skiprows": body_source.rows}
+        else:
+            source = body_source
+            body_source.seek(0 if full_text is not None else body_offset)
         with warnings.catch_warnings():
             # pandas only warns when every row has more fields than the header and then
             # drops data: make that an error
             warnings.simplefilter("error", pd.errors.ParserWarning)
             return pd.read_csv(
-                body_source,
+                source,
+                **skip,
                 sep=sep,
                 decimal=decimal,
                 header=None,
@@ -530,10 +656,43 @@ def parse_sensor_bytes(
                 dtype={lab: (float if j in wanted else object) for j, lab in enumerate(labels)},
                 engine="c",
                 skip_blank_lines=True,
+                chunksize=chunksize,
             )
 
+    def to_forces(cols):
+        """File columns (file units) → record channels [N]: units, decoupling, axes."""
+        si = {}
+        if matrix is not None:  # cross-talk: corrected = M @ raw (Fx, Fy, Fz), in N
+            raw3 = {c: cols[c] * f_factors[c][0] for c in DECOUPLE_AXES}
+            si = decouple_columns(raw3, matrix, p)
+        forces = {}
+        for name, (col, sign) in chosen.items():
+            if col in si:
+                forces[name] = si[col] * sign if sign != 1.0 else si[col]
+                continue
+            factor = f_factors[col][0] * sign
+            values = cols[col]
+            forces[name] = values * factor if factor != 1.0 else values
+        return forces
+
+    crop_attrs = {}
+    if crop is not None:  # a large file: keep only the contact and its margins
+
+        def chunks():
+            with warnings.catch_warnings():
+                warnings.simplefilter("error", pd.errors.ParserWarning)
+                for frame in parse(dec, chunksize=crop.chunk_rows):
+                    yield {wanted[j]: frame[labels[j]].to_numpy() for j in sorted(wanted)}
+
+        try:
+            cols, crop_attrs = crop.run(chunks(), t_factor, to_forces)
+        except parse_errors as exc:
+            raise crop.Damaged(str(exc)) from exc
+        frame = None
+    else:
+        cols = None
     try:
-        frame = parse(dec)
+        frame = parse(dec) if cols is None else None
     except parse_errors as exc:
         # The decimal mark is sniffed from the first 4 KiB: integers there ("0;0") hide a
         # decimal comma further down. The other mark is taken only if every cell reads.
@@ -543,7 +702,7 @@ def parse_sensor_bytes(
                 frame = parse("," if dec == "." else ".")
         if frame is None:
             _diagnose(str(body), first_line, sep, dec, shown, p, exc)
-    n = len(frame)
+    n = len(frame) if cols is None else len(cols["time"])
     if n == 0:
         raise InputError("header only: the file has no data rows", path=p, line=header_line)
     if n == 1:
@@ -552,7 +711,8 @@ def parse_sensor_bytes(
             path=p,
             line=_row(body, first_line, sep, 0)[0],
         )
-    cols = {wanted[j]: frame[labels[j]].to_numpy() for j in sorted(wanted)}
+    if cols is None:
+        cols = {wanted[j]: frame[labels[j]].to_numpy() for j in sorted(wanted)}
     # Too few fields on a line fill NaN silently: check every used column for non-finite.
     for key, values in cols.items():
         bad = ~np.isfinite(values)
@@ -580,12 +740,9 @@ def parse_sensor_bytes(
             line=line,
             column=time_col[1],
         )
-    forces = {}
-    for name, (col, sign) in chosen.items():
-        factor = f_factors[name][0] * sign
-        values = cols[col]
-        forces[name] = values * factor if factor != 1.0 else values
+    forces = to_forces(cols)
     check_plane(forces, p)
+    check_sample_rate(meta, t, t_unit, p)
     if not isinstance(sha, str):
         sha = sha.hexdigest()
     attrs = base_attrs(p, sha, fmt, "sensor")
@@ -596,6 +753,8 @@ def parse_sensor_bytes(
     )
     if ignored:
         attrs["ignored_columns"] = ",".join(ignored)
+    attrs.update(decouple_attrs)
+    attrs.update(crop_attrs)
     attrs.update(meta)
     attrs.update(scene or {})
     return make_record(t, forces, attrs=attrs)

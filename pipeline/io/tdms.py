@@ -28,11 +28,14 @@ import numpy as np
 from ..errors import InputError
 from ..record import make_record
 from ._common import (
+    DECOUPLE_AXES,
     FORCE_COLUMNS,
     base_attrs,
     canonical_column,
     check_plane,
+    decouple_columns,
     first_non_increase,
+    read_decoupling,
     read_raw,
     resolve_axes,
     scene_attrs,
@@ -172,7 +175,16 @@ def _prop(ch, name, default=None):
     return value
 
 
-def read_tdms(path, *, time_unit=None, force_unit=None, axes=None, group=None, **scene_fields):
+def read_tdms(
+    path,
+    *,
+    time_unit=None,
+    force_unit=None,
+    axes=None,
+    group=None,
+    decouple=None,
+    **scene_fields,
+):
     """Read an NI TDMS file into a record.
 
     Parameters
@@ -186,6 +198,9 @@ def read_tdms(path, *, time_unit=None, force_unit=None, axes=None, group=None, *
         Record channel → TDMS channel, sign by a leading ``-`` (as for the sensor CSV).
     group : str, optional
         The group to read when several hold force channels.
+    decouple : array_like or path, optional
+        The sensor's 3×3 decoupling matrix (see :func:`pipeline.io.read_decoupling`),
+        applied to the raw (Fx, Fy, Fz) in N before the axis map.
     **scene_fields : float
         Scene fields stored in the attributes (names as :class:`pipeline.Scene`).
 
@@ -201,6 +216,7 @@ def read_tdms(path, *, time_unit=None, force_unit=None, axes=None, group=None, *
         bad units, NaN/inf, time not strictly increasing.
     """
     scene = scene_attrs(scene_fields)
+    matrix, decouple_attrs = (None, {}) if decouple is None else read_decoupling(decouple)
     p, raw, sha = read_raw(path)
     tdms = _open(raw, p)
     try:
@@ -234,8 +250,18 @@ def read_tdms(path, *, time_unit=None, force_unit=None, axes=None, group=None, *
             )
     g, force_chs, time_ch = found[0]
     chosen = resolve_axes(force_chs, axes, p)
+    needed = [col for col, _ in chosen.values()]
+    if matrix is not None:
+        missing = [c for c in DECOUPLE_AXES if c not in force_chs]
+        if missing:
+            raise InputError(
+                f"decouple= needs the raw Fx, Fy and Fz channels; group {g.name!r} has no "
+                f"{', '.join(missing)}",
+                path=p,
+            )
+        needed += [c for c in DECOUPLE_AXES if c not in needed]
     try:
-        data = {col: np.asarray(force_chs[col][:], dtype=float) for col, _ in chosen.values()}
+        data = {col: np.asarray(force_chs[col][:], dtype=float) for col in needed}
     except (TypeError, ValueError) as exc:
         raise InputError(f"force channels are not numeric ({exc})", path=p) from exc
     lengths = {col: v.size for col, v in data.items()}
@@ -310,13 +336,13 @@ def read_tdms(path, *, time_unit=None, force_unit=None, axes=None, group=None, *
             f"{float(t_raw[i + 1])!r} {t_unit}) in the {where}; time must strictly increase",
             path=p,
         )
-    forces, units = {}, set()
-    for name, (col, sign) in chosen.items():
+    si, units = {}, {}
+    for col in needed:
         ch = force_chs[col]
         factor, unit = resolve_unit(
             "force", _unit(ch, "force", p), force_unit, path=p, column=ch.name
         )
-        units.add(unit)
+        units[col] = unit
         values = data[col]
         bad = ~np.isfinite(values)
         if bad.any():
@@ -327,12 +353,17 @@ def read_tdms(path, *, time_unit=None, force_unit=None, axes=None, group=None, *
                 path=p,
                 column=ch.name,
             )
-        forces[name] = values * (factor * sign)
+        si[col] = values * factor
+    if matrix is not None:  # cross-talk: corrected = M @ raw (Fx, Fy, Fz), in N
+        si = decouple_columns(si, matrix, p)
+    forces = {name: si[col] * sign for name, (col, sign) in chosen.items()}
+    units = {units[col] for col, _ in chosen.values()}
     check_plane(forces, p)
     attrs = base_attrs(p, sha, "tdms", "sensor")
     attrs["source_time_unit"] = t_unit
     attrs["source_force_unit"] = ",".join(sorted(units))
     attrs["tdms_group"] = g.name
+    attrs.update(decouple_attrs)
     attrs["axes"] = ",".join(
         f"{name}={'-' if sign < 0 else ''}{force_chs[col].name}"
         for name, (col, sign) in chosen.items()

@@ -1,0 +1,225 @@
+"""The command line reads what Python reads, and answers every bad argument in one line.
+
+Exit statuses (pipeline.cli): 0 success, 1 some records failed, 2 bad input or argument,
+3 internal error. Records are the bundled samples (synthetic; provenance in
+data_samples/README.md).
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+from pathlib import Path
+
+import pytest
+
+from pipeline.cli import main
+
+SAMPLES = Path(__file__).resolve().parents[1] / "data_samples"
+MAIN = SAMPLES / "gr_15deg_0.6ms.csv"
+
+
+def _run(capsys, *argv):
+    code = main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+@pytest.mark.parametrize("name", ["wpd_Fn.csv", "wpd_datasets.csv", "sensor.tdms"])
+def test_analyse_reads_the_bundled_samples_as_their_sidecars_say(capsys, name):
+    """The digitised samples carry no units: the sidecar's 'load' block gives them (and
+    combines wpd_Fn.csv with wpd_Ft.csv). This exited 2 before."""
+    code, out, err = _run(capsys, "analyse", SAMPLES / name, "--boot", 0)
+    assert code == 0, err
+    summary = json.loads(out)
+    assert summary["plausibility"]["peak_force"]["status"] == "ok"
+    assert summary["scene_sources"]["speed"] == f"scene file {Path(name).stem}.json"
+
+
+def test_analyse_takes_units_and_axes_on_the_command_line(tmp_path, capsys):
+    """A WebPlotDigitizer export without its sidecar: units from the arguments, as
+    load(..., time_unit=, force_unit=) takes them; the scene from --scene."""
+    shutil.copy(SAMPLES / "wpd_datasets.csv", tmp_path / "w.csv")
+    scene = tmp_path / "scene.json"
+    scene.write_text(json.dumps(json.loads((SAMPLES / "wpd_datasets.json").read_text())["scene"]))
+    code, _, err = _run(capsys, "analyse", tmp_path / "w.csv", "--scene", scene)
+    assert code == 2 and "no time unit in the file" in err and err.count("\n") == 1
+    argv = ["analyse", tmp_path / "w.csv", "--scene", scene, "--boot", 0]
+    code, out, err = _run(capsys, *argv, "--time-unit", "us", "--force-unit", "N")
+    assert code == 0, err
+    assert json.loads(out)["plausibility"]["contact_time"]["status"] == "ok"
+    # a wrong unit is caught by the plausibility check, with the unit that fits
+    code, _, err = _run(capsys, *argv, "--time-unit", "ms", "--force-unit", "N")
+    assert code == 2 and "fit 'us', not 'ms'" in err
+    code, out, err = _run(capsys, "analyse", MAIN, "--axes", "Fn=Fz,Ft=-Fx", "--boot", 0)
+    assert code == 0, err
+    assert json.loads(out)["rigid"]["regime"] == "sticking"
+
+
+def test_scene_fields_from_the_record_metadata(tmp_path, capsys):
+    """sensor_decimal_comma.csv states '# Impact speed: 0,5 m/s' and '# Angle: 15 deg':
+    a scene file without them is completed from the record, and the output says so."""
+    shutil.copy(SAMPLES / "sensor_decimal_comma.csv", tmp_path / "r.csv")
+    truth = json.loads((SAMPLES / "sensor_decimal_comma.json").read_text())["scene"]
+    partial = {k: v for k, v in truth.items() if k not in ("speed", "angle_deg")}
+    scene = tmp_path / "scene.json"
+    scene.write_text(json.dumps(partial))
+    code, out, err = _run(capsys, "analyse", tmp_path / "r.csv", "--scene", scene, "--boot", 0)
+    assert code == 0, err
+    summary = json.loads(out)
+    assert summary["scene"]["speed"] == 0.5 and summary["scene"]["angle_deg"] == 15.0
+    assert summary["scene_sources"]["speed"] == "record metadata 'impact_speed' = '0,5 m/s'"
+    assert summary["scene_sources"]["radius"] == "scene file scene.json"
+
+
+def _bad_scenes(tmp_path):
+    cases = {
+        "malformed.json": b'{"radius": 0.0127,',
+        "list.json": b"[1, 2, 3]",
+        "latin1.json": '{"radius": 0.0127, "note": "caf\xe9"}'.encode("latin-1"),
+    }
+    for name, data in cases.items():
+        (tmp_path / name).write_bytes(data)
+    (tmp_path / "folder.json").mkdir()
+    return {
+        "malformed.json": "not valid JSON",
+        "list.json": "not a list",
+        "latin1.json": "not UTF-8",
+        "folder.json": "is a directory",
+        "missing.json": "no such scene file",
+    }
+
+
+def test_every_bad_scene_is_one_line_and_exit_2(tmp_path, capsys):
+    for name, fragment in _bad_scenes(tmp_path).items():
+        code, out, err = _run(capsys, "analyse", MAIN, "--scene", tmp_path / name)
+        assert code == 2, name
+        assert err.startswith("error: ") and err.count("\n") == 1, err
+        assert fragment in err and name in err
+        assert "Traceback" not in err and not out
+
+
+@pytest.mark.parametrize(
+    "argv,fragment",
+    [
+        (["analyse", MAIN, "--axes", "Fn"], "is not CHANNEL=COLUMN"),
+        (["analyse", MAIN, "--axes", "{bad"], "not a JSON object"),
+        (["analyse", MAIN, "--boot", "x"], "invalid int value"),
+        (["analyse", MAIN, "--time-unit", "fortnight"], "is not a time unit"),
+        (["analyse", MAIN, "--force-unit", "kg"], "is not a force unit"),
+        (["analyse", MAIN, "--axes", "Fn=Fq"], "names no column"),
+        (["analyse", MAIN, "--decouple", "no_such.txt"], "no such file"),
+        (["analyse", SAMPLES / "no_such.csv"], "no such file"),
+        (["analyse"], "the following arguments are required: file"),
+        (["frobnicate"], "invalid choice"),
+        (["reproduce", "--samples", "no_such_folder"], "no such folder"),
+    ],
+)
+def test_every_bad_argument_is_one_line_and_exit_2(capsys, argv, fragment):
+    try:
+        code = main([str(a) for a in argv])
+    except SystemExit as exc:  # argparse's own errors exit through Parser.error
+        code = exc.code
+    err = capsys.readouterr().err
+    assert code == 2
+    assert err.startswith("error: ") and err.count("\n") == 1, err
+    assert fragment in err
+
+
+def test_an_internal_error_is_one_line_and_exit_3(capsys, monkeypatch):
+    import pipeline.report
+
+    def broken(*args, **kwargs):
+        raise ZeroDivisionError("a bug")
+
+    monkeypatch.setattr(pipeline.report, "analyse", broken)
+    code, _, err = _run(capsys, "analyse", MAIN, "--boot", 0)
+    assert code == 3
+    assert (
+        err == "error: internal error (ZeroDivisionError: a bug); run with -v for the "
+        "traceback and report it\n"
+    )
+
+
+# ----------------------------------------------------------------------------- reproduce
+def _samples(tmp_path, *names):
+    folder = tmp_path / "samples"
+    folder.mkdir()
+    for name in names:
+        for p in SAMPLES.glob(Path(name).stem + ".*"):
+            shutil.copy(p, folder / p.name)
+    return folder
+
+
+def test_reproduce_goes_on_past_any_failure_and_exits_1(tmp_path, capsys, monkeypatch):
+    """A bad file (InputError) and a bug (any other exception) in one record each: both
+    listed with their reason in summary.json and report.md; the rest processed; exit 1."""
+    import pipeline.report as report
+
+    folder = _samples(tmp_path, "gr_15deg_0.6ms.csv", "gr_30deg_0.6ms.csv", "wpd_datasets.csv")
+    (folder / "broken.csv").write_text("time [s],Fz [N]\n0.0,abc\n", encoding="utf-8")
+    real = report.analyse
+
+    def flaky(record, scene, **kw):
+        if record.attrs["source"] == "gr_30deg_0.6ms.csv":
+            raise KeyError("a bug in a stage")
+        return real(record, scene, **kw)
+
+    monkeypatch.setattr(report, "analyse", flaky)
+    out = tmp_path / "out"
+    code, stdout, _ = _run(capsys, "reproduce", "--samples", folder, "--out", out, "--boot", 0)
+    assert code == 1
+    summary = json.loads((out / "summary.json").read_text())
+    status = {r["file"]: r["status"] for r in summary["records"]}
+    assert status == {
+        "broken.csv": "failed",
+        "gr_15deg_0.6ms.csv": "ok",
+        "gr_30deg_0.6ms.csv": "failed",
+        "wpd_datasets.csv": "ok",
+    }
+    assert summary["n_failed"] == 2
+    assert summary["failures"]["gr_30deg_0.6ms.csv"] == "KeyError: 'a bug in a stage'"
+    assert "line 2" in summary["failures"]["broken.csv"]
+    report_md = (out / "report.md").read_text()
+    assert "## Failed records" in report_md and "(internal error)" in report_md
+    assert "failed: gr_30deg_0.6ms.csv" in stdout
+    manifest = json.loads((out / "manifest.json").read_text())
+    assert sorted(manifest["files"]) == sorted(
+        p.name for p in out.iterdir() if p.name != "manifest.json"
+    )
+
+
+def test_reproduce_without_its_main_record_still_writes_a_report(tmp_path, capsys):
+    folder = _samples(tmp_path, "wpd_datasets.csv")
+    out = tmp_path / "out"
+    code, _, _ = _run(capsys, "reproduce", "--samples", folder, "--out", out, "--boot", 0)
+    assert code == 1
+    assert "could not be analysed" in (out / "report.md").read_text()
+    assert not list(out.glob("*.png"))
+
+
+@pytest.mark.parametrize(
+    "sidecar,fragment",
+    [
+        (None, "the sidecar is a directory"),
+        ('{"load": "x"}', "'load' must be an object"),
+        ('{"load": {"time_unt": "us"}}', "did you mean 'time_unit'"),
+        ('{"load": {"paths": ["a.csv"]}}', "'paths' must map channels"),
+        ('{"scene": {"radius": 0.0127, "density": 7850}}', "does not give speed"),
+        ('{"load": {"time_unit": "us"}}', "(load options time_unit from x.json)"),
+    ],
+)
+def test_bad_sidecars_fail_their_record_with_the_sidecar_named(tmp_path, sidecar, fragment):
+    from pipeline.report import reproduce
+
+    folder = _samples(tmp_path, "gr_15deg_0.6ms.csv")
+    shutil.copy(MAIN, folder / "x.csv")
+    if sidecar is None:
+        (folder / "x.json").mkdir()
+    else:
+        (folder / "x.json").write_text(sidecar)
+    summary = reproduce(folder, tmp_path / "out", n_boot=0)
+    (bad,) = [r for r in summary["records"] if r["file"] == "x.csv"]
+    assert bad["status"] == "failed" and fragment in bad["error"], bad["error"]
+    assert "x.json" in bad["error"]
+    assert summary["findings"] is not None  # the main record went on
