@@ -80,6 +80,7 @@ F. R. Hampel, "The influence curve and its role in robust estimation", J. Am. St
 from __future__ import annotations
 
 import dataclasses
+import math
 import warnings
 from dataclasses import dataclass, field
 
@@ -444,7 +445,7 @@ def _sensor(record, *, k, false_alarm, guard, max_iter):
     sigma = np.nan
     for _ in range(max_iter):
         r = y - base(t)
-        sigma = _sigma(r[outside])
+        sigma = _sigma(r[outside], y)
         runs = _runs(r, sigma, kk)
         new = _choose(runs, r, sigma, kk, src)
         if new is None:
@@ -483,7 +484,7 @@ def _sensor(record, *, k, false_alarm, guard, max_iter):
             break
     r = y - base(t)
     if found is not None:
-        sigma = _sigma(r[outside])
+        sigma = _sigma(r[outside], y)
     if found is None:
         peak_abs = float(np.max(np.abs(r)))
         raise NoPulseError(
@@ -515,7 +516,7 @@ def _sensor(record, *, k, false_alarm, guard, max_iter):
         yc = record[c].values
         bc = base if c == "Fn" else _fit_line(t, yc, outside, t_ref, both)
         baseline[c] = bc
-        noise[c] = _sigma((yc - bc(t))[outside])
+        noise[c] = _sigma((yc - bc(t))[outside], yc)
     peak = float(np.max(r[found.a : found.b + 1]))
     win = _finish(record, t0, t1, "sensor", noise, baseline, kk, peak)
     return dataclasses.replace(
@@ -571,9 +572,17 @@ class _Found:
         return (self.a, self.b)
 
 
-def _sigma(r) -> float:
-    """MAD noise level, the standard deviation where the MAD is 0 (quantised, noise-free)."""
-    return mad_sigma(r) or float(np.std(r))
+def _sigma(r, y) -> float:
+    """Noise level of the baseline residuals ``r`` of a channel whose samples are ``y``: the
+    MAD estimate; the standard deviation where the MAD is 0 (quantised, nearly noise-free);
+    where both are 0 (a noise-free baseline on one ADC level) the converter's rounding
+    noise q/√12, q the grid step of the whole channel (:func:`pipeline.percussion.adc_step`)."""
+    sigma = mad_sigma(r) or float(np.std(r))
+    if sigma == 0.0:
+        from .percussion import adc_step
+
+        sigma = adc_step(y) / math.sqrt(12.0)
+    return sigma
 
 
 def _initial_baseline(t, y, t_ref):

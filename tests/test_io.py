@@ -917,3 +917,15 @@ def test_stated_sample_rate_against_the_time_column(tmp_path):
     off = _write(tmp_path, "off.csv", "# sample rate: 2.5 Hz\n" + body)
     with pytest.warns(SampleRateWarning, match="states 'sample_rate: 2.5 Hz'"):
         load(off)
+
+
+def test_the_stated_bandwidth_becomes_sensor_bandwidth_in_hz():
+    """'# bandwidth [Hz]: 300000' in a sensor export (the bundled GR-style sample) is kept as
+    attrs['sensor_bandwidth'] [Hz], which the resolution checks of the percussions read; a
+    unit after the number works too, and a bare number is not guessed."""
+    from pipeline.io.metadata import stated_bandwidth
+
+    rec = load(SAMPLES / "gr_15deg_0.6ms.csv")
+    assert rec.attrs["sensor_bandwidth"] == pytest.approx(3e5, rel=1e-12)
+    assert stated_bandwidth({"meta_cutoff": "300 kHz"})[0] == pytest.approx(3e5, rel=1e-12)
+    assert stated_bandwidth({"meta_bandwidth": "300000"}) is None

@@ -416,3 +416,18 @@ def test_a_fit_off_the_samples_is_a_poor_fit_not_a_record_flag(gr_ideal):
         res = resolution(w, p)
     assert "fit off the samples" in res.fit_flags and res.ok
     assert res.fit_departure["Ft"] > RESOLUTION_TOL / 2
+
+
+def test_adc_step_is_the_greatest_common_step_of_the_values():
+    """A quantised smooth pulse leaves gaps of several steps (5q, 16q, ...) whose smallest
+    is not the step; continuous values lie on no grid."""
+    from pipeline.percussion import adc_step
+
+    q = 5000.0 / 2**16
+    t = np.linspace(0.0, 1.0, 200)
+    F = np.round(1300.0 * np.sin(np.pi * t) ** 1.5 / q) * q
+    assert np.diff(np.unique(F)).min() > 2 * q  # the smallest gap is not the step here
+    assert adc_step(F) == pytest.approx(q, rel=1e-9)
+    assert adc_step(np.round(np.linspace(0.0, 7.0, 50), 1)) == pytest.approx(0.1, rel=1e-9)
+    rng = np.random.default_rng(0)
+    assert adc_step(rng.normal(size=500)) == 0.0

@@ -334,3 +334,22 @@ def test_a_digitised_curve_with_negative_fn_is_refused():
     )
     with pytest.raises(SignFlipError, match="fn.csv: the digitised Fn is all negative"):
         find_contact(rec)
+
+
+def test_a_noise_free_quantised_baseline_takes_the_adc_rounding_as_its_noise():
+    """A baseline sitting on one ADC level has zero MAD and zero spread; the noise is then
+    the converter's rounding, q/√12 (a uniform error over one step), not 0 — which left no
+    threshold and no samples 'outside the contact'."""
+    from pipeline.contact import hertz_impact, hertz_pulse
+    from pipeline.record import make_record
+    from pipeline.scene import Scene
+
+    hi = hertz_impact(Scene(radius=0.0127, density=7850.0, E=210e9, nu=0.29, speed=0.6))
+    q = 5000.0 / 2**16  # a 16-bit converter over 5 kN
+    t = np.arange(-200, 600) * hi.t_c / 200
+    F = np.round(hertz_pulse(t, hi)["F"] / q) * q
+    rec = make_record(t, {"Fn": F, "Ft": 0.1 * F}, attrs={"source": "q", "format": "t"})
+    w = find_contact(rec)
+    assert w.noise["Fn"] == pytest.approx(q / np.sqrt(12), rel=1e-6)
+    assert w.t_start == pytest.approx(0.0, abs=3 * hi.t_c / 200)
+    assert w.t_end == pytest.approx(hi.t_c, abs=3 * hi.t_c / 200)

@@ -32,6 +32,9 @@ field              keys (case, spaces and ``_`` ignored)               units
 ``# sample rate [Hz]: 2e6``, ``# fs: 1 MS/s``) with the time column: off by a power of
 10³ is a :class:`~pipeline.errors.UnitMismatchError` naming the time unit the values fit,
 any other disagreement over 1 % a :class:`~pipeline.errors.SampleRateWarning`.
+:func:`stated_bandwidth` reads the sensor's low-pass bandwidth (``# bandwidth [Hz]:
+300000``), which the sensor reader keeps as ``attrs["sensor_bandwidth"]`` [Hz] for the
+resolution checks of :func:`pipeline.percussion.resolution`.
 """
 
 from __future__ import annotations
@@ -46,7 +49,13 @@ from ..errors import InputError, SampleRateWarning, UnitMismatchError
 from ._common import caller_level
 from .units import TIME_UNITS
 
-__all__ = ["parse_quantity", "scene_from_metadata", "check_sample_rate", "stated_sample_rate"]
+__all__ = [
+    "parse_quantity",
+    "scene_from_metadata",
+    "check_sample_rate",
+    "stated_sample_rate",
+    "stated_bandwidth",
+]
 
 _PI = math.pi
 
@@ -117,6 +126,17 @@ _RATE_KEYS = {
     "fs",
     "rate",
     "samplingfreq",
+}
+
+_BANDWIDTH_KEYS = {
+    "bandwidth",
+    "filterbandwidth",
+    "sensorbandwidth",
+    "cutoff",
+    "cutofffrequency",
+    "lowpass",
+    "lowpassfilter",
+    "antialiasfilter",
 }
 
 _QUANTITY = re.compile(
@@ -226,8 +246,18 @@ def scene_from_metadata(attrs) -> dict:
 
 def stated_sample_rate(attrs) -> tuple[float, str] | None:
     """The sample rate [Hz] a record's metadata states with a unit, and its text."""
+    return _stated_frequency(attrs, _RATE_KEYS)
+
+
+def stated_bandwidth(attrs) -> tuple[float, str] | None:
+    """The sensor's low-pass bandwidth [Hz] the metadata states with a unit
+    (``# bandwidth [Hz]: 300000``, ``# cutoff: 300 kHz``), and its text."""
+    return _stated_frequency(attrs, _BANDWIDTH_KEYS)
+
+
+def _stated_frequency(attrs, keys) -> tuple[float, str] | None:
     for key, text in attrs.items():
-        if not str(key).startswith("meta_") or _squash(str(key)) not in _RATE_KEYS:
+        if not str(key).startswith("meta_") or _squash(str(key)) not in keys:
             continue
         parsed = parse_quantity(text)
         if parsed is None:

@@ -75,7 +75,7 @@ from ._common import (
     resolve_axes,
     scene_attrs,
 )
-from .metadata import check_sample_rate
+from .metadata import check_sample_rate, stated_bandwidth
 from .units import resolve_unit, split_unit, time_factor
 
 __all__ = ["read_sensor", "write_sensor", "DEFAULT_AXES"]
@@ -756,5 +756,8 @@ def _parse_table(
     attrs.update(decouple_attrs)
     attrs.update(crop_attrs)
     attrs.update(meta)
+    bandwidth = stated_bandwidth(meta)
+    if bandwidth is not None:
+        attrs["sensor_bandwidth"] = bandwidth[0]
     attrs.update(scene or {})
     return make_record(t, forces, attrs=attrs)
