@@ -1,9 +1,20 @@
 """Fitting contact parameters to records (the inverse problem).
 
-This package is where the word *fit* lives: forward models, one record, campaigns,
-kinematic outcomes and model selection. Polynomial and spline smoothing of the force
-histories moved to :mod:`pipeline.smooth`; its names are re-exported here so that the old
-imports (``from pipeline.fit import fit_window``) keep working.
+The stage a reader looks for after the percussions: what a force record says about the
+contact — E*, the restitution and its damping law, μ, the tangential stiffness — with
+uncertainties a paper can quote.
+
+- :func:`fit_contact` (:mod:`.contact`) — one record → :class:`ContactFit`;
+
+Underneath: :mod:`.pulse` (the normal impact as a master curve tabulated once),
+:mod:`.tangential` (the tangential contact on it, solved piecewise), :mod:`.sensor` (filter,
+cross-talk, ADC), :mod:`.forward` (a record's forward model), :mod:`.engine` (least squares
+with lmfit and vectorised Gauss–Newton), :mod:`.uncertainty` (covariance, block bootstrap,
+one-sided bounds) and :mod:`.result` (what every fit result shares).
+
+Polynomial and spline smoothing of the force histories moved to :mod:`pipeline.smooth`; its
+names are re-exported here so that the old imports (``from pipeline.fit import
+fit_window``) keep working.
 """
 
 from __future__ import annotations
@@ -20,5 +31,13 @@ from ..smooth import (  # noqa: F401  (backward-compatible names of pipeline.smo
     fit_window,
     runs_test,
 )
+from .contact import ContactFit, fit_contact
+from .sensor import CrossTalkWarning, SensorSpec
 
-__all__: list[str] = []
+__all__ = [
+    "ContactFit",
+    "fit_contact",
+    "SensorSpec",
+    "CrossTalkWarning",
+]
+

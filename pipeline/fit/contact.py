@@ -1,0 +1,519 @@
+r"""Fit the contact parameters of one record: :func:`fit_contact` → :class:`ContactFit`.
+
+The model (:mod:`pipeline.fit.forward`) is the simulator's — a normal law of
+:data:`pipeline.contact.NORMAL_LAWS`, a tangential model (``"none"``, ``"coulomb"``,
+``"mindlin"`` with its history rule) — seen through the record's sensor, and its
+parameters are
+
+======== ====== ==============================================================
+name     unit   meaning
+======== ====== ==============================================================
+E_eff    Pa     effective modulus E* (G* follows at the scene's G*/E*)
+e        1      normal restitution (the damping calibrated to it; ``alpha`` [s/m]
+                instead for the Hunt–Crossley family: c = α·v0)
+mu       1      Coulomb friction coefficient
+kt_scale 1      tangential stiffness over Mindlin's 8·G*·a
+speed    m/s    impact speed
+t0       s      instant of first contact on the record's clock
+======== ====== ==============================================================
+
+Both force channels are fitted jointly, each sample weighted by 1/σ of its channel's noise
+(measured outside the contact), on the contact window widened by ``margin``. lmfit's
+Levenberg–Marquardt drives the minimisation with the Jacobian of
+:mod:`pipeline.fit.engine` (one vectorised model call per iteration); uncertainties come
+from the covariance and a block bootstrap, and parameters the data bound on one side only
+are reported as such (:mod:`pipeline.fit.uncertainty`).
+
+Choices, and why:
+
+- **Default parameters** vary E*, e, μ, ``kt_scale`` (Mindlin only) and t0; the speed
+  comes from the scene (a rig measures it, e.g. by light gates, and the normal pulse alone
+  cannot separate it well from E* and e at a few per cent of noise: Pn = (1+e)·m*·v0 ties
+  them). Add ``"speed"`` to ``vary`` when it is not known.
+- **Starting values** from the record's moments: e from the normal percussion,
+  :math:`e_0 = P_n/(m^* v_0) - 1`; the time scale δ*/v0 (hence E*) from the pulse's RMS
+  width against the master curve's; t0 from its centroid less the filter's delay; μ from
+  the upper plateau of Ft/Fn in compression (:func:`pipeline.analysis.estimate_mu`).
+- **Poor fits** (χ²_ν more than five standard deviations above 1, or a runs test on a
+  channel's residual signs below z = −2.326 at α = 0.01) are flagged and warned about with
+  :class:`~pipeline.errors.PoorFitWarning`, never returned silently.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+
+from .._json import json_ready
+from ..errors import InputError
+from ..scene import Scene
+from ..smooth import runs_test
+from .engine import Design
+from .forward import PARAMS, ForwardModel, RecordData, prepare
+from .procedure import run_fit
+from .pulse import E_MIN, normal_pulse
+from .result import FitResult
+from .sensor import CrossTalkWarning, fy_tracks_fn
+
+__all__ = ["ContactFit", "fit_contact", "DEFAULT_VARY"]
+
+
+def DEFAULT_VARY(normal: str, tangential: str) -> tuple:
+    """The parameters :func:`fit_contact` fits by default for a model."""
+    names = ["E_eff"]
+    if normal != "hertz":
+        names.append("e")
+    if tangential in ("coulomb", "mindlin"):
+        names.append("mu")
+    if tangential == "mindlin":
+        names.append("kt_scale")
+    names.append("t0")
+    return tuple(names)
+
+
+class _Single(Design):
+    """One record: the local parameters are the global ones (``alpha`` → e if asked)."""
+
+    def __init__(self, data: RecordData, law: str, use_alpha: bool):
+        self.data, self.law, self.use_alpha = data, law, use_alpha
+        self.names = tuple("alpha" if (n == "e" and use_alpha) else n for n in PARAMS)
+        self.scale = np.array([1e9, 0.1, 0.01, 0.1, 0.1, data.window.duration])
+
+    def local(self, theta):
+        P = np.array(theta, dtype=float, copy=True)
+        if self.use_alpha:
+            P[:, 1] = _e_of_alpha(self.law, P[:, 1], P[:, 0], P[:, 4], self.data)
+        return [P]
+
+
+def _e_of_alpha(law, alpha, E, speed, data):
+    """Restitution of ``law`` with material constant α at E*, speed (PHYSICS.md §4)."""
+    from ..contact import NORMAL_LAWS
+
+    L = NORMAL_LAWS[law]
+    K = 4.0 / 3.0 * E * math.sqrt(data.R_eff)
+    v0 = speed * data.cos_a
+    with np.errstate(invalid="ignore"):
+        e = np.asarray(L.cor(np.maximum(L.material_to_param(alpha, K, data.m_eff, v0), 0.0)))
+    return np.clip(e, E_MIN, 1.0)
+
+
+@dataclass(frozen=True, eq=False)
+class ContactFit(FitResult):
+    """The contact parameters of one record (:func:`fit_contact`; API.md, "Fitting").
+
+    Besides the attributes of :class:`~pipeline.fit.result.FitResult` (``values``,
+    ``stderr``, ``ci(level)``, ``identifiable``, ``notes``, ``aic``, ``bic``, ``redchi``,
+    ``params``, ``result``):
+
+    Attributes
+    ----------
+    model : pipeline.fit.forward.ForwardModel — normal law, tangential model, history rule
+    data : pipeline.fit.forward.RecordData — the samples, weights and sensor model used
+    physics : dict — what the fitted parameters imply: ``t_c`` [s], ``F_max`` [N],
+        ``delta_max`` [m], ``e_n``, ``e_t`` [-], ``omega`` [rad/s], ``Pn_final``,
+        ``Pt_final`` [N·s], ``regime`` (``"sliding"``: the slip never stops),
+        ``slide_share`` (share of the normal percussion delivered while sliding)
+    """
+
+    model: object = None
+    data: object = None
+    physics: dict = None
+    problem: object = None
+
+    @property
+    def normal(self) -> str:
+        return self.model.normal
+
+    @property
+    def tangential(self) -> str:
+        return self.model.tangential
+
+    def _P(self):
+        return self.problem.design.local(self.theta[None, :])[0]
+
+    def predicted(self) -> list:
+        """The fitted model at the fitted samples, one array per channel [N]."""
+        P = self._P()
+        sol = self.model.solve([self.data], [P])[0]
+        return [m[0] for m in self.model.predict(self.data, P, sol)]
+
+    def true_forces(self, t) -> dict:
+        """The fitted contact forces (before the sensor) at instants ``t`` [s]: ``Fn``,
+        ``Ft`` [N], and ``Ft_rigid``, Routh's broken line on the fitted normal pulse
+        (Ft = μ·Fn until the slip would stop, then 0; PHYSICS.md §3)."""
+        from .tangential import tangential_response
+
+        P = self._P()
+        sol = self.model.solve([self.data], [P])[0]
+        out = self.model.curves(self.data, P, sol, t)
+        if self.tangential != "none":
+            k = sol.index[:1]
+            pul = sol.pulse.take(k)
+            d = self.data
+            v0 = P[0, 4] * d.cos_a
+            tr = tangential_response(
+                pul, abs(float(d.slip0(P[0, 4]))) / v0, d.lam, P[0, 2], 0.0, tangential="coulomb"
+            )
+            from .forward import Solution
+
+            rig = self.model.curves(d, P, Solution(pul, tr, np.zeros(1, int)), t)
+            out["Ft_rigid"] = rig["Ft"]
+        return out
+
+    def residuals(self) -> list:
+        """(y − model)/σ per channel."""
+        return [
+            (c.y - m) / c.sigma for c, m in zip(self.data.channels, self.predicted(), strict=True)
+        ]
+
+    def runs_z(self) -> dict:
+        """Runs-test z of each channel's residual signs (pipeline.smooth.runs_test)."""
+        return {
+            c.name: float(runs_test(r))
+            for c, r in zip(self.data.channels, self.residuals(), strict=True)
+        }
+
+    def report(self) -> str:
+        """lmfit's fit report, then the physics the fit implies (and the notes)."""
+        from lmfit import fit_report
+
+        ph = self.physics
+        lines = [
+            f"Contact fit of {self.data.record.attrs.get('source', 'a record')}: normal "
+            f"{self.normal!r}, tangential {self.tangential!r}"
+            + (f" ({self.model.history} history)" if self.tangential == "mindlin" else ""),
+            f"  {self.n_data} samples, χ² = {self.chi2:.5g}, χ²_ν = {self.redchi:.4g}, "
+            f"AIC = {self.aic:.5g}, BIC = {self.bic:.5g}"
+            + (" — POOR FIT (structured residuals)" if self.poor else ""),
+            "  parameters (95 % intervals: "
+            + ("block bootstrap" if self.boot is not None else "covariance")
+            + "):",
+            *self._param_lines(),
+            "  implied:",
+            f"    t_c = {ph['t_c'] * 1e6:.2f} µs, F_max = {ph['F_max']:.5g} N, "
+            f"δ_max = {ph['delta_max'] * 1e6:.3f} µm, e_n = {ph['e_n']:.4f}",
+        ]
+        if "e_t" in ph:
+            lines.append(
+                f"    e_t = {ph['e_t']:.4f}, ω = {ph['omega']:.4g} rad/s, regime {ph['regime']} "
+                f"(sliding during {ph['slide_share']:.0%} of the normal percussion)"
+            )
+        if self.notes:
+            lines.append("  notes:")
+            lines += [f"    - {n}" for n in self.notes]
+        lines += ["", "lmfit report:", fit_report(self.params)]
+        return "\n".join(lines)
+
+    def summary(self) -> dict:
+        """Every number of the fit, strict-JSON ready (units in :data:`UNITS` and keys)."""
+        d = self.data
+        return json_ready(
+            {
+                "source": d.record.attrs.get("source", ""),
+                "sha256": d.record.attrs.get("sha256", ""),
+                "model": {
+                    "normal": self.normal,
+                    "tangential": self.tangential,
+                    "history": self.model.history if self.tangential == "mindlin" else None,
+                    "n_steps": self.model.n_steps,
+                },
+                "parameters": self._summary_params(),
+                "physics": {
+                    (k if k in ("regime", "slide_share", "e_n", "e_t") else k + _unit(k)): v
+                    for k, v in self.physics.items()
+                },
+                "fit": self._summary_stats(),
+                "channels": {
+                    c.name: {"samples": int(c.t.size), "sigma_N": c.sigma} for c in d.channels
+                },
+                "runs_z": self.runs_z(),
+                "sensor": d.sensor.summary(),
+                "window": d.window.summary(),
+            }
+        )
+
+    def to_dataset(self):
+        """Measured, model and residuals per channel on the fitted samples (xarray).
+
+        Variables ``<ch>`` (measured less baseline), ``<ch>_model`` [N] and
+        ``<ch>_residual`` [(y − model)/σ], ``<ch>_true`` (the model before the sensor) [N]
+        and ``Ft_rigid`` [N] on coordinate ``time_<ch>`` [s]; attrs: the summary as JSON.
+        """
+        import json
+
+        import xarray as xr
+
+        ds = xr.Dataset()
+        for c, m in zip(self.data.channels, self.predicted(), strict=True):
+            tname = f"time_{c.name}"
+            tf = self.true_forces(c.t)
+            coords = {tname: (tname, c.t, {"units": "s"})}
+            ds = ds.assign_coords(coords)
+            ds[c.name] = (
+                tname,
+                c.y,
+                {"units": "N", "long_name": f"measured {c.name} less baseline"},
+            )
+            ds[f"{c.name}_model"] = (
+                tname,
+                m,
+                {"units": "N", "long_name": "fitted model, as measured"},
+            )
+            ds[f"{c.name}_residual"] = (
+                tname,
+                (c.y - m) / c.sigma,
+                {"units": "1", "long_name": "(measured − model)/σ"},
+            )
+            if tf.get(c.name) is not None:
+                ds[f"{c.name}_true"] = (
+                    tname,
+                    tf[c.name],
+                    {"units": "N", "long_name": "fitted contact force"},
+                )
+            if c.name == "Ft" and "Ft_rigid" in tf:
+                ds["Ft_rigid"] = (
+                    tname,
+                    tf["Ft_rigid"],
+                    {"units": "N", "long_name": "Routh (rigid) Ft on the fitted Fn"},
+                )
+        ds.attrs["summary_json"] = json.dumps(self.summary(), allow_nan=False)
+        ds.attrs["normal_model"] = self.normal
+        ds.attrs["tangential_model"] = self.tangential
+        return ds
+
+
+def _unit(k):
+    return {
+        "t_c": "_s",
+        "F_max": "_N",
+        "delta_max": "_m",
+        "Pn_final": "_Ns",
+        "Pt_final": "_Ns",
+        "omega": "_rad_per_s",
+        "Ft_max": "_N",
+        "Ft_min": "_N",
+    }.get(k, "")
+
+
+# ------------------------------------------------------------------ starting values
+def _moments(t, y):
+    w = np.maximum(y, 0.0)
+    area = np.trapezoid(w, t)
+    mean = np.trapezoid(w * t, t) / area
+    var = np.trapezoid(w * (t - mean) ** 2, t) / area
+    return area, mean, math.sqrt(max(var, 0.0))
+
+
+def _start(data: RecordData, model: ForwardModel, speed: float) -> dict:
+    fn = data.channels[0]
+    v0 = speed * data.cos_a
+    area, mean, width = _moments(fn.t, fn.y)
+    e0 = 1.0 if model.normal == "hertz" else float(np.clip(area / (data.m_eff * v0) - 1, 0.2, 0.99))
+    if model.normal is None:  # rigid: impulses at t0
+        return {
+            "E_eff": 1.0,
+            "e": e0,
+            "mu": _mu_start(data, mean),
+            "kt_scale": 1.0,
+            "speed": speed,
+            "t0": mean - data.sensor.delay(),
+        }
+    pul = normal_pulse(model.normal, e0, 64)
+    tau = np.linspace(0.0, pul.tau_c[0], 65)
+    _, mt, wt = _moments(tau, pul.f[0])
+    T = width / wt
+    ds = T * v0
+    K = data.m_eff * v0 * v0 / ds**2.5
+    E0 = 3.0 * K / (4.0 * math.sqrt(data.R_eff))
+    t0 = mean - mt * T - data.sensor.delay()
+    mu0 = 0.1
+    if model.tangential != "none" and len(data.channels) > 1:
+        mu0 = _mu_start(data, t0 + T * tau[np.argmax(pul.f[0])])
+    return {"E_eff": E0, "e": e0, "mu": mu0, "kt_scale": 1.0, "speed": speed, "t0": t0}
+
+
+def _mu_start(data, t_peak):
+    """μ from the upper plateau of Ft/Fn before the peak (pipeline.analysis.estimate_mu)."""
+    from ..analysis import estimate_mu
+
+    m = estimate_mu(data.window, t_peak)
+    return float(np.clip(m, 1e-3, 2.0)) if np.isfinite(m) and m > 0 else 0.1
+
+
+# ------------------------------------------------------------------ the fit
+def fit_contact(
+    record,
+    scene: Scene,
+    *,
+    normal: str = "hunt_crossley",
+    tangential: str = "mindlin",
+    vary=None,
+    **options,
+) -> ContactFit:
+    """Fit the contact parameters of one force record (module notes).
+
+    Parameters
+    ----------
+    record : xarray.Dataset
+        A record (:func:`pipeline.io.load`, or :func:`pipeline.simulate.impact` →
+        :func:`pipeline.sensor_model.to_sensor`) with ``Fn`` and, unless
+        ``tangential="none"``, ``Ft`` [N].
+    scene : Scene
+        The impact: radii, masses, speed [m/s], angle [deg], Poisson ratios (and E, for the
+        starting value); μ and e may be None (unknown).
+    normal : str
+        Normal law, a key of :data:`pipeline.contact.NORMAL_LAWS` (``"hertz"`` is elastic,
+        e = 1).
+    tangential : {"mindlin", "coulomb", "none"}
+    vary : sequence of str, optional
+        Parameters to fit (names in the module table); default :func:`DEFAULT_VARY`. The
+        others are fixed at the scene's values (E_eff from E and ν, ``e``, ``mu``,
+        ``speed``; ``kt_scale`` 1) or, where the scene leaves them unknown, at the
+        starting values.
+
+    Other Parameters
+    ----------------
+    history : {"total", "incremental"}
+        Mindlin history rule (default ``"total"``, as the simulator).
+    sensor : SensorSpec or mapping
+        Sensor properties (bandwidth [Hz], filter_order, quantum [N], crosstalk_matrix), e.g.
+        a sample sidecar's ``"sensor"`` block; default: from the record
+        (:func:`pipeline.fit.sensor.sensor_spec`).
+    noise : mapping
+        σ per channel [N], instead of the noise measured outside the contact.
+    margin : float
+        Samples kept on each side of the contact window [fraction of its duration]
+        (default 0.5).
+    n_steps : int
+        Steps of the tabulated pulse per contact (default 128).
+    oversample : int
+        Fine-grid factor of the filter model (default 4).
+    n_boot : int
+        Block-bootstrap replicates (default 200; 0: covariance intervals only).
+    seed : int
+        Seed of the bootstrap (default 0).
+    start : mapping
+        Starting values overriding the module's rules.
+    window_options : dict
+        Passed to :func:`pipeline.window.find_contact`.
+
+    Returns
+    -------
+    ContactFit
+
+    Raises
+    ------
+    InputError
+        Unknown model or parameter names, a scene without elastic constants, a record
+        without the channels or samples to fit.
+
+    Warns
+    -----
+    PoorFitWarning
+        When the residuals show structure the model misses (module notes).
+
+    Examples
+    --------
+    >>> fit = fit_contact(load("data_samples/gr_15deg_0.6ms.csv"), scene)  # doctest: +SKIP
+    >>> fit.values["E_eff"], fit.ci()["mu"], fit.identifiable["mu"]  # doctest: +SKIP
+    """
+    t_begin = time.perf_counter()
+    opts = dict(options)
+    history = opts.pop("history", "total")
+    n_steps = int(opts.pop("n_steps", 128))
+    model = ForwardModel(normal, tangential, history, n_steps)
+    vary = DEFAULT_VARY(normal, tangential) if vary is None else tuple(vary)
+    allowed = set(PARAMS) | {"alpha"}
+    bad = [v for v in vary if v not in allowed]
+    if bad:
+        raise InputError(f"fit_contact: unknown parameter(s) {bad}; choose from {sorted(allowed)}")
+    if "alpha" in vary and "e" in vary:
+        raise InputError("vary 'e' or 'alpha' (the same damping, two parametrisations), not both")
+    if normal == "hertz" and ("e" in vary or "alpha" in vary):
+        raise InputError("the elastic 'hertz' law has e = 1: nothing to vary; choose a damped law")
+    if tangential != "mindlin" and "kt_scale" in vary:
+        raise InputError(f"kt_scale is a Mindlin parameter; tangential={tangential!r} has none")
+    if tangential == "none" and "mu" in vary:
+        raise InputError("tangential='none' is frictionless: mu cannot be fitted")
+    return fit_model(record, scene, model, vary, t_begin=t_begin, **opts)
+
+
+def fit_model(record, scene, model, vary, *, t_begin=None, **options) -> ContactFit:
+    """Fit ``model`` (a :class:`~pipeline.fit.forward.ForwardModel`, or the rigid model of
+    :mod:`pipeline.fit.select`) to one record: the work behind :func:`fit_contact`, whose
+    options it takes."""
+    t_begin = time.perf_counter() if t_begin is None else t_begin
+    opts = dict(options)
+    sensor = opts.pop("sensor", None)
+    noise = opts.pop("noise", None)
+    margin = float(opts.pop("margin", 0.5))
+    oversample = int(opts.pop("oversample", 4))
+    n_boot = int(opts.pop("n_boot", 200))
+    seed = int(opts.pop("seed", 0))
+    start = dict(opts.pop("start", None) or {})
+    window_options = opts.pop("window_options", None)
+    if opts:
+        raise InputError(
+            f"fit_contact: unknown option(s) {', '.join(sorted(opts))}; see its docstring"
+        )
+    normal, tangential = model.normal, model.tangential
+    use_alpha = "alpha" in vary
+    data = prepare(
+        record,
+        scene,
+        channels=model.channels,
+        sensor=sensor,
+        margin=margin,
+        oversample=oversample,
+        noise=noise,
+        window_options=window_options,
+    )
+    notes = list(data.notes)
+    design = _Single(data, normal, use_alpha)
+    s0 = _start(data, model, float(scene.speed))
+    fixed = {
+        "E_eff": float(scene.E_eff),
+        "e": 1.0 if normal == "hertz" else scene.e,
+        "mu": scene.mu,
+        "kt_scale": 1.0,
+        "speed": float(scene.speed),
+        "t0": s0["t0"],
+    }
+    for name, value in fixed.items():
+        if value is None and name not in vary:
+            if name == "mu" and tangential == "none":
+                fixed[name] = 0.0
+                continue
+            notes.append(f"{name} is neither in the scene nor fitted: held at its start value")
+            fixed[name] = s0[name]
+    init = {n: (s0[n] if n in vary else fixed[n]) for n in PARAMS}
+    if use_alpha:
+        from ..contact import NORMAL_LAWS
+
+        L = NORMAL_LAWS[normal]
+        v0 = init["speed"] * data.cos_a
+        K = 4.0 / 3.0 * init["E_eff"] * math.sqrt(data.R_eff)
+        p = float(L.calibrate(s0["e"]))
+        init["alpha"] = p / float(L.material_to_param(1.0, K, data.m_eff, v0)) if p else 0.0
+    init.update(start)
+    kw = run_fit(model, [data], design, init, vary, notes, n_boot=n_boot, seed=seed)
+    P = design.local(kw["theta"][None, :])[0]
+    sol = model.solve([data], [P])[0]
+    kw.update(data=data, physics=model.physics(data, P, sol))
+    leak = fy_tracks_fn(data, model.predict(data, P, sol)[0][0])
+    if leak is not None:
+        msg = (
+            f"Fy tracks Fn (Fy ≈ {leak:+.2%} of Fn): the sensor's axes leak into each other, "
+            "and a leak of Fn into Ft of that size biases μ by about the leak over μ (and e_t "
+            "with it). Give the sensor's cross-talk matrix (sensor={'crosstalk_matrix': ...}) "
+            "or load the record decoupled"
+        )
+        kw["notes"] = kw["notes"] + (msg,)
+        warnings.warn(msg, CrossTalkWarning, stacklevel=3)
+    kw["cost_s"] = time.perf_counter() - t_begin
+    return ContactFit(**kw)

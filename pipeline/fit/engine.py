@@ -1,0 +1,250 @@
+r"""The least-squares engine every fit shares: global parameters → records → weighted residuals.
+
+A fit has *global* parameters θ (what lmfit varies: E*, e or α, μ or μ = a + b·v_t0,
+``kt_scale``, t0 ...) and, for each record, the six *local* parameters of its forward model
+(:data:`pipeline.fit.forward.PARAMS`). A :class:`Design` maps one to the other (the identity
+for one record; shared and per-record parameters for a campaign). The residual is
+:math:`r = (y - m(\theta))/\sigma`, all channels of all records concatenated.
+
+Jacobian: by finite differences in the *local* parameters, all perturbed columns of all
+records evaluated in one vectorised call of the forward model (columns that differ only in
+E* or t0 share one tangential solution), then the chain rule through the design,
+:math:`\partial r/\partial\theta = \sum_l \partial r/\partial P_l\;\partial P_l/\partial\theta`.
+lmfit's Levenberg–Marquardt (MINPACK ``lmder``) receives it as ``Dfun``, so a fit costs one
+vectorised model call per iteration instead of one per parameter.
+
+Many fits at once — bootstrap replicates, profile points — use :func:`gauss_newton_many`:
+Gauss–Newton steps for B parameter vectors and data sets in one model call per iteration,
+no Python loop over the replicates and no lmfit in that hot loop.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .forward import PARAMS, ForwardModel
+
+__all__ = ["Design", "Problem", "gauss_newton_many"]
+
+_P = {name: i for i, name in enumerate(PARAMS)}
+#: relative finite-difference step of the local parameters
+_REL = 1e-6
+#: local parameters differentiated analytically
+_ANALYTIC = ("E_eff", "t0")
+
+
+class Design:
+    """Global parameters → local parameters of each record (vectorised over rows of θ).
+
+    Subclasses set ``names`` (all global parameters, fixed ones too), ``scale`` (a typical
+    magnitude of each, for finite-difference steps) and implement :meth:`local`.
+    """
+
+    names: tuple = ()
+    scale: np.ndarray
+
+    def local(self, theta: np.ndarray) -> list:
+        """θ, shape (B, p) → one (B, 6) array of local parameters per record."""
+        raise NotImplementedError
+
+    def dlocal(self, theta: np.ndarray, vary: np.ndarray) -> list:
+        """∂P/∂θ_vary per record, shape (B, 6, n_vary), by forward differences of
+        :meth:`local` (exact for the linear parts of a design)."""
+        base = self.local(theta)
+        out = [np.zeros(b.shape + (vary.size,)) for b in base]
+        for j, k in enumerate(vary):
+            step = 1e-7 * np.maximum(np.abs(theta[:, k]), self.scale[k])
+            th = theta.copy()
+            th[:, k] += step
+            for o, b, p in zip(out, base, self.local(th), strict=True):
+                o[:, :, j] = (p - b) / step[:, None]
+        return out
+
+
+class Problem:
+    """A weighted least-squares problem over records (module notes).
+
+    Parameters
+    ----------
+    model : ForwardModel
+    datas : list of pipeline.fit.forward.RecordData
+    design : Design
+    vary : sequence of bool — which of ``design.names`` vary
+    """
+
+    def __init__(self, model: ForwardModel, datas, design: Design, vary):
+        self.model, self.datas, self.design = model, list(datas), design
+        self.vary = np.flatnonzero(np.asarray(vary, dtype=bool))
+        self.y = np.concatenate([d.y() for d in self.datas])
+        self.sizes = [d.n_data for d in self.datas]
+        self.n_data = int(self.y.size)
+        self.n_calls = 0
+        self._last = None
+
+    # ---------------------------------------------------------------- evaluation
+    def evaluate(self, Theta, jacobian=False):
+        """Residuals r (B, N) at the rows of Θ (B, p), and ∂r/∂θ_vary (B, N, n_vary).
+
+        Local derivatives: E* and t0 analytic (they only stretch, scale and shift the
+        pulse, :meth:`ForwardModel.predict`), the others by forward differences.
+        """
+        Theta = np.atleast_2d(np.asarray(Theta, dtype=float))
+        B = Theta.shape[0]
+        Ps = self.design.local(Theta)
+        self.n_calls += 1
+        if not jacobian:
+            res, _ = self.model.residuals(self.datas, Ps)
+            return np.concatenate(res, axis=1), None
+        dP = self.design.dlocal(Theta, self.vary)
+        cols, steps, active = [], [], []
+        for P, D in zip(Ps, dP, strict=True):
+            act = np.flatnonzero(np.any(D != 0, axis=(0, 2)))
+            fd = [l for l in act if PARAMS[l] not in _ANALYTIC]
+            st = np.empty((B, len(fd)))
+            blocks = [P]
+            for j, l in enumerate(fd):
+                name = PARAMS[l]
+                if name == "e":
+                    h = np.where(P[:, l] + 1e-6 > 1.0, -1e-6, 1e-6)
+                else:
+                    h = _REL * np.maximum(np.abs(P[:, l]), 1e-3 if name == "mu" else 1e-300)
+                Q = P.copy()
+                Q[:, l] += h
+                blocks.append(Q)
+                st[:, j] = h
+            cols.append(np.concatenate(blocks))
+            steps.append(st)
+            active.append((act, fd))
+        res, _, ders = self.model.residuals(self.datas, cols, nderiv=[B] * len(cols))
+        r_all, J_all = [], []
+        for r, st, (act, fd), D, der in zip(res, steps, active, dP, ders, strict=True):
+            n = r.shape[1]
+            base = r[:B]
+            Jl = np.zeros((B, 6, n))
+            if fd:
+                pert = r[B:].reshape(len(fd), B, n)
+                Jl[:, fd] = np.moveaxis((pert - base[None]) / st.T[:, :, None], 0, 1)
+            Jl[:, _P["E_eff"]] = der[:, 0]
+            Jl[:, _P["t0"]] = der[:, 1]
+            r_all.append(base)
+            J_all.append(np.einsum("bln,blv->bnv", Jl[:, act], D[:, act, :]))
+        return np.concatenate(r_all, axis=1), np.concatenate(J_all, axis=1)
+
+    def residual(self, theta):
+        """Weighted residuals at θ; the Jacobian there is computed with them and kept for
+        :meth:`jacobian` (Levenberg–Marquardt asks for it at accepted points)."""
+        theta = np.asarray(theta, dtype=float)
+        if self._last is None or not np.array_equal(self._last[0], theta):
+            r, J = self.evaluate(theta[None, :], jacobian=True)
+            self._last = (theta.copy(), r[0], J[0])
+        return self._last[1]
+
+    def jacobian(self, theta):
+        self.residual(theta)
+        return self._last[2]
+
+
+def _solve_normal(J, r, damp):
+    """Least-squares steps δ = argmin |J δ − r|² + damp·|D δ|² for a batch (B, N, p)."""
+    scale = np.sqrt(np.einsum("bnp,bnp->bp", J, J))
+    scale = np.where(scale > 0, scale, 1.0)
+    Js = J / scale[:, None, :]
+    A = np.einsum("bnp,bnq->bpq", Js, Js)
+    A = A + damp * np.eye(A.shape[-1])[None]
+    g = np.einsum("bnp,bn->bp", Js, r)
+    try:
+        d = np.linalg.solve(A, g[..., None])[..., 0]
+    except np.linalg.LinAlgError:
+        d = np.einsum("bpq,bq->bp", np.linalg.pinv(A), g)
+    return d / scale
+
+
+def gauss_newton_many(
+    problem: Problem,
+    Theta0,
+    dy=None,
+    *,
+    lower=None,
+    upper=None,
+    iters=4,
+    freeze=None,
+    jacobian=None,
+    tol=1e-4,
+):
+    """Refit B parameter vectors at once (Gauss–Newton, one model call per iteration).
+
+    Parameters
+    ----------
+    problem : Problem
+    Theta0 : numpy.ndarray, shape (B, p) — starting values (fixed entries stay as given)
+    dy : numpy.ndarray, shape (B, N), optional — weighted data changes (y* − y)/σ of each
+        replicate (bootstrap); None: the problem's own data
+    lower, upper : numpy.ndarray, shape (p,), optional — bounds (steps are clipped to them)
+    iters : int — most iterations
+    freeze : numpy.ndarray of bool, shape (p,), optional — parameters held at their start
+        values (a profile)
+    jacobian : numpy.ndarray, shape (N, n_vary), optional — a Jacobian shared by every row
+        (the fit's, for replicates that start at its optimum): each iteration then costs one
+        residual evaluation without derivatives (simplified Gauss–Newton, which converges
+        to the same optimum); None: each row's own Jacobian, recomputed every iteration
+    tol : float — stop when every step is below ``tol`` of the parameter's scale
+
+    Returns
+    -------
+    Theta : numpy.ndarray (B, p), chi2 : numpy.ndarray (B,)
+    """
+    Theta = np.array(Theta0, dtype=float, copy=True)
+    v = problem.vary
+    p = Theta.shape[1]
+    lo = np.full(p, -np.inf) if lower is None else np.asarray(lower, float)
+    hi = np.full(p, np.inf) if upper is None else np.asarray(upper, float)
+    free = np.ones(v.size, bool) if freeze is None else ~np.asarray(freeze, bool)[v]
+    extra = 0.0 if dy is None else dy
+    scale = np.maximum(np.abs(Theta[0, v]), problem.design.scale[v])
+    if jacobian is not None:
+        K = _pseudo_inverse(np.asarray(jacobian)[:, free])  # (n_free, N)
+        r = problem.evaluate(Theta)[0] + extra
+    else:
+        r, J = problem.evaluate(Theta, jacobian=True)
+        r = r + extra
+    chi2 = np.einsum("bn,bn->b", r, r)
+    damp = np.full(Theta.shape[0], 1e-8)
+    for _ in range(iters):
+        step = np.zeros((Theta.shape[0], v.size))
+        if jacobian is not None:
+            step[:, free] = -r @ K.T
+        else:
+            step[:, free] = _solve_normal(J[:, :, free], -r, damp[:, None, None])
+        trial = Theta.copy()
+        trial[:, v] = np.clip(Theta[:, v] + step, lo[v], hi[v])
+        if jacobian is not None:
+            rt, Jt = problem.evaluate(trial)[0] + extra, None
+        else:
+            rt, Jt = problem.evaluate(trial, jacobian=True)
+            rt = rt + extra
+        ct = np.einsum("bn,bn->b", rt, rt)
+        better = np.isfinite(ct) & (ct <= chi2 * (1 + 1e-12))
+        Theta = np.where(better[:, None], trial, Theta)
+        r = np.where(better[:, None], rt, r)
+        if Jt is not None:
+            J = np.where(better[:, None, None], Jt, J)
+            damp = np.where(better, damp * 0.1, damp * 100.0)
+        chi2 = np.where(better, ct, chi2)
+        if np.all(np.abs(step) <= tol * scale):
+            break
+    return Theta, chi2
+
+
+def _pseudo_inverse(J):
+    """(JᵀJ)⁻¹Jᵀ by SVD of the column-scaled J (rank-deficient directions dropped)."""
+    s = np.sqrt(np.sum(J * J, axis=0))
+    s = np.where(s > 0, s, 1.0)
+    U, w, Vt = np.linalg.svd(J / s, full_matrices=False)
+    good = w > w.max() * 1e-10 if w.size else np.zeros(0, bool)
+    return ((Vt[good].T / w[good]) @ U[:, good].T) / s[:, None]
+
+
+def chi2_of(r) -> float:
+    return float(np.dot(r, r)) if np.all(np.isfinite(r)) else math.inf

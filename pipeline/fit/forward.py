@@ -1,0 +1,547 @@
+r"""The forward model of a record: contact parameters → what the sensor would have recorded.
+
+For each set of parameters (a *column*: E* [Pa], e [-], μ [-], ``kt_scale`` [-], speed
+[m/s], onset t0 [s]) the model is built from three pieces, none of which integrates an ODE:
+
+1. the **normal pulse** of the chosen law at restitution e, a master curve tabulated once
+   (:mod:`pipeline.fit.pulse`) and scaled by
+   :math:`\delta^* = (m^* v_0^2/K)^{2/5}` (K = (4/3)E*√R*, v0 = speed·cos α): time by
+   δ*/v0 and force by m*·v0²/δ* (so E* and the speed only stretch and scale it);
+2. the **tangential force** on that pulse (:mod:`pipeline.fit.tangential`), which in these
+   units depends on e, μ, ``kt_scale`` (through k_c = 6·(G*/E*)·``kt_scale``, G*/E* from the
+   scene's Poisson ratios), the initial slip s0 = slip/v0 and λ = m*/m_t only — so E*
+   and t0 never require a new tangential solution, and the columns of a Jacobian that
+   differ only in them share one;
+3. the **sensor** (:mod:`pipeline.fit.sensor`): cross-talk, then the low-pass filter on a
+   grid ``oversample`` times finer than the samples (first-order hold), then sampling.
+
+Between the pulse's nodes the forces are cubic Hermite interpolants (values and rates at
+the nodes), so the 128 default steps per contact keep the interpolation error near 1e-8
+of the peak. All columns of all records are solved together: one table lookup and one
+tangential solve per call, a few numpy operations per record after that.
+
+The data a fit uses (:func:`prepare`): the samples of each force channel within the contact
+window of :func:`pipeline.window.find_contact` widened by ``margin`` (a fraction of the
+contact duration) on each side, less the window's baseline; saturated samples left out;
+weights 1/σ from each channel's noise measured outside the contact
+(:attr:`pipeline.window.ContactWindow.noise`, floored at the ADC step's q/√12), or, where a
+record has no trigger margins (digitised, simulated), from
+:func:`pipeline.analysis.noise_level`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import InputError
+from ..record import channel
+from ..scene import Scene
+from ..window import find_contact
+from .pulse import E_MIN, normal_pulse, shape_of
+from .sensor import SensorSpec, sensor_spec
+from .tangential import HISTORY_RULES, TANGENTIAL_MODELS, tangential_response
+
+__all__ = ["PARAMS", "UNITS", "Channel", "RecordData", "ForwardModel", "prepare"]
+
+#: The local parameters of one record's model, in column order.
+PARAMS = ("E_eff", "e", "mu", "kt_scale", "speed", "t0")
+UNITS = {
+    "E_eff": "Pa",
+    "e": "1",
+    "alpha": "s/m",
+    "mu": "1",
+    "mu_a": "1",
+    "mu_b": "s/m",
+    "kt_scale": "1",
+    "speed": "m/s",
+    "t0": "s",
+}
+_I = {name: i for i, name in enumerate(PARAMS)}
+
+
+@dataclass(frozen=True, eq=False)
+class Channel:
+    """One force channel's fitted samples.
+
+    Attributes
+    ----------
+    name : str — ``"Fn"`` or ``"Ft"``
+    t : numpy.ndarray — sample instants [s]
+    y : numpy.ndarray — measured force less the baseline [N]
+    sigma : float — noise standard deviation [N] (the weights are 1/σ)
+    """
+
+    name: str
+    t: np.ndarray
+    y: np.ndarray
+    sigma: float
+
+
+@dataclass(frozen=True, eq=False)
+class RecordData:
+    """One record prepared for fitting (see the module notes).
+
+    Attributes
+    ----------
+    record : xarray.Dataset — the record as given
+    scene : Scene — its scene (speed, angle, masses, radii, Poisson ratios)
+    window : pipeline.window.ContactWindow
+    sensor : SensorSpec
+    channels : tuple of Channel
+    fine : numpy.ndarray or None — the filter's fine time grid [s] (uniform records with a
+        known bandwidth), sample k of every channel at ``fine[k * oversample]``
+    oversample : int
+    sos : numpy.ndarray or None — the filter discretised on the fine grid
+    notes : tuple of str — what the preparation assumed or left out
+    m_eff, R_eff, lam, g_ratio, cos_a, sin_a : float — scene constants: m* [kg], R* [m],
+        m*/m_t, G*/E*, cos and sin of the incidence
+    """
+
+    record: object
+    scene: Scene
+    window: object
+    sensor: SensorSpec
+    channels: tuple
+    fine: np.ndarray | None
+    oversample: int
+    sos: np.ndarray | None = None
+    notes: tuple = field(default_factory=tuple)
+
+    # ------------------------------------------------------------- scene constants
+    def __post_init__(self):
+        sc = self.scene
+        m2 = float(sc.target_mass)
+        extra = 0.0 if math.isinf(m2) else (1 + 1 / sc.kappa) / m2
+        const = {
+            "m_eff": float(sc.m_eff),
+            "R_eff": float(sc.R_eff),
+            # m*/m_t (PHYSICS.md §1; a free second sphere adds its own rotational term)
+            "lam": float(sc.m_eff * ((1 + 1 / sc.kappa) / sc.m + extra)),
+            "g_ratio": float(sc.G_eff / sc.E_eff),  # G*/E* of the scene's materials
+            "cos_a": math.cos(math.radians(float(sc.angle_deg))),
+            "sin_a": math.sin(math.radians(float(sc.angle_deg))),
+            "slip_offset": float(sc.surface_speed + sc.spin * sc.radius),
+        }
+        for k, v in const.items():
+            object.__setattr__(self, k, v)
+
+    def slip0(self, speed):
+        """Initial slip of the contact point [m/s] at impact speed ``speed`` (PHYSICS.md §1)."""
+        return np.asarray(speed) * self.sin_a - self.slip_offset
+
+    @property
+    def n_data(self) -> int:
+        return sum(c.t.size for c in self.channels)
+
+    def y(self) -> np.ndarray:
+        """The weighted data, channels concatenated (y/σ)."""
+        return np.concatenate([c.y / c.sigma for c in self.channels])
+
+
+def _noise(win, name, t, f):
+    sigma = float(win.noise.get(name, float("nan")))
+    if np.isfinite(sigma):
+        return sigma, None
+    from ..analysis import noise_level
+
+    if t.size >= 5:
+        return float(noise_level(win, None, name)), (
+            f"{name}: no trigger margins to measure the noise; σ estimated from the samples "
+            "(second differences or a smoothing spline, pipeline.analysis.noise_level)"
+        )
+    raise InputError(
+        f"{name} has only {t.size} samples: too few to estimate its noise; give noise= "
+        "(σ per channel [N])",
+        path=win.record.attrs.get("source") if win.record is not None else None,
+    )
+
+
+def prepare(
+    record,
+    scene: Scene,
+    *,
+    channels=("Fn", "Ft"),
+    sensor=None,
+    margin: float = 0.5,
+    oversample: int = 4,
+    noise=None,
+    window_options=None,
+) -> RecordData:
+    """The samples, weights and sensor model a fit of ``record`` uses (module notes).
+
+    Parameters
+    ----------
+    record : xarray.Dataset — a record (:func:`pipeline.io.load`, :mod:`pipeline.simulate`)
+    scene : Scene — needs ``E`` and ``nu`` (for G*/E* and a starting E*)
+    channels : tuple of str — the force channels fitted
+    sensor : SensorSpec or mapping, optional — see :func:`pipeline.fit.sensor.sensor_spec`
+    margin : float — samples kept on each side of the contact window [fraction of its
+        duration]
+    oversample : int — fine-grid factor of the filter model
+    noise : mapping, optional — σ per channel [N], overriding the measured noise
+    window_options : dict, optional — passed to :func:`pipeline.window.find_contact`
+
+    Returns
+    -------
+    RecordData
+    """
+    if not isinstance(scene, Scene):
+        raise InputError("a fit needs a pipeline.Scene describing the impact")
+    scene._need_elastic()
+    for name in channels:
+        if name not in record:
+            raise InputError(
+                f"the record has no {name} channel to fit; fit tangential='none' for a record "
+                "with only Fn",
+                path=record.attrs.get("source"),
+            )
+    if not (margin >= 0):
+        raise InputError(f"margin must be ≥ 0 (a fraction of the contact duration), got {margin}")
+    win = find_contact(record, **(window_options or {}))
+    spec = sensor_spec(record, sensor)
+    notes = list(spec.notes)
+    dur = win.duration
+    lo, hi = win.t_start - margin * dur, win.t_end + margin * dur
+    half = None if not math.isfinite(spec.full_scale) else 0.5 * spec.full_scale
+    chans = []
+    uniform_t = None
+    for name in channels:
+        t, f = channel(record, name)
+        keep = (t >= lo) & (t <= hi)
+        if half is not None:
+            sat = np.abs(f) >= half - 0.5 * spec.quantum - 1e-12 * half
+            if np.any(sat & keep):
+                notes.append(
+                    f"{name}: {int(np.sum(sat & keep))} saturated samples (ADC end codes) left out"
+                )
+            keep &= ~sat
+        tc = t[keep]
+        yc = f[keep] - win.baseline[name](tc) if name in win.baseline else f[keep]
+        if tc.size < 5:
+            raise InputError(
+                f"{name} has {tc.size} samples in the contact window: too few to fit",
+                path=record.attrs.get("source"),
+            )
+        if noise is not None and name in noise:
+            sigma = float(noise[name])
+        else:
+            sigma, note = _noise(win, name, tc, yc)
+            if note:
+                notes.append(note)
+        floor = max(spec.quantum / math.sqrt(12.0), 1e-9 * float(np.max(np.abs(yc))), 1e-300)
+        sigma = max(sigma, floor)
+        chans.append(Channel(name, tc, yc, sigma))
+        uniform_t = tc if uniform_t is None else uniform_t
+    fine, sos, os_ = None, None, 1
+    if spec.filtered:
+        t0 = chans[0].t
+        same = all(c.t.size == t0.size and np.array_equal(c.t, t0) for c in chans)
+        dt = np.diff(t0)
+        if same and t0.size > 2 and np.ptp(dt) <= 1e-6 * np.mean(dt):
+            os_ = int(oversample)
+            step = float(np.mean(dt))
+            fine = t0[0] + np.arange((t0.size - 1) * os_ + 1) * (step / os_)
+            sos = spec.sos(step / os_)
+        else:
+            notes.append(
+                "the record is not sampled uniformly on one clock: its filter is not modelled"
+            )
+    return RecordData(
+        record=record,
+        scene=scene,
+        window=win,
+        sensor=spec,
+        channels=tuple(chans),
+        fine=fine,
+        oversample=os_,
+        sos=sos,
+        notes=tuple(notes),
+    )
+
+
+@dataclass(frozen=True)
+class Solution:
+    """Dimensionless solutions of the unique problems among the columns (internal)."""
+
+    pulse: object
+    tang: object
+    index: np.ndarray  # column → unique problem
+
+
+class ForwardModel:
+    """A contact model of records: normal law, tangential model, history rule (module notes).
+
+    Parameters
+    ----------
+    normal : str — a key of :data:`pipeline.contact.NORMAL_LAWS`
+    tangential : {"mindlin", "coulomb", "none"}
+    history : {"total", "incremental"}
+    n_steps : int — steps of the tabulated pulse per contact duration
+    """
+
+    def __init__(self, normal="hunt_crossley", tangential="mindlin", history="total", n_steps=128):
+        shape_of(normal)  # InputError naming the laws
+        if tangential not in TANGENTIAL_MODELS:
+            raise InputError(
+                f"unknown tangential model {tangential!r}; choose one of {TANGENTIAL_MODELS}"
+            )
+        if history not in HISTORY_RULES:
+            raise InputError(
+                f"unknown Mindlin history rule {history!r}; choose one of {HISTORY_RULES}"
+            )
+        self.normal, self.tangential, self.history = normal, tangential, history
+        self.n_steps = int(n_steps)
+
+    @property
+    def channels(self) -> tuple:
+        return ("Fn",) if self.tangential == "none" else ("Fn", "Ft")
+
+    @property
+    def name(self) -> str:
+        return f"{self.normal}+{self.tangential}"
+
+    # -------------------------------------------------------------- scales
+    def scales(self, data: RecordData, P):
+        """δ* [m], time scale δ*/v0 [s], force scale m*·v0²/δ* [N], v0 [m/s] per column."""
+        E, v = P[:, _I["E_eff"]], P[:, _I["speed"]]
+        v0 = v * data.cos_a
+        K = 4.0 / 3.0 * E * math.sqrt(data.R_eff)
+        ds = (data.m_eff * v0 * v0 / K) ** 0.4
+        return ds, ds / v0, data.m_eff * v0 * v0 / ds, v0
+
+    # -------------------------------------------------------------- solve
+    def solve(self, datas, Ps) -> list:
+        """The dimensionless normal and tangential solutions of every column of every record.
+
+        Columns that differ only in E* and t0 share one solution (module notes).
+        """
+        rows = []
+        for d, P in zip(datas, Ps, strict=True):
+            e = P[:, _I["e"]]
+            v0 = P[:, _I["speed"]] * d.cos_a
+            s0 = np.abs(d.slip0(P[:, _I["speed"]])) / v0
+            rows.append(
+                np.column_stack(
+                    [
+                        e,
+                        P[:, _I["mu"]],
+                        6.0 * d.g_ratio * P[:, _I["kt_scale"]],
+                        s0,
+                        np.full(e.size, d.lam),
+                    ]
+                )
+            )
+        allrows = np.concatenate(rows)
+        if self.tangential == "none":
+            allrows[:, 1:4] = 0.0
+        elif self.tangential == "coulomb":
+            allrows[:, 2] = 0.0
+        uniq, inv = np.unique(allrows, axis=0, return_inverse=True)
+        inv = inv.ravel()
+        e = uniq[:, 0]
+        if np.any(~((e >= E_MIN) & (e <= 1.0))):
+            raise InputError(f"restitution outside [{E_MIN}, 1]: {e[(e < E_MIN) | (e > 1)]}")
+        pulse = normal_pulse(self.normal, e, self.n_steps)
+        tang = None
+        if self.tangential != "none":
+            tang = tangential_response(
+                pulse,
+                uniq[:, 3],
+                uniq[:, 4],
+                uniq[:, 1],
+                uniq[:, 2],
+                tangential=self.tangential,
+                history=self.history,
+            )
+        out, start = [], 0
+        for P in Ps:
+            out.append(Solution(pulse, tang, inv[start : start + P.shape[0]]))
+            start += P.shape[0]
+        return out
+
+    # -------------------------------------------------------------- predict
+    def _true_forces(self, sol: Solution, tau, need_t, deriv=False):
+        """Fn, Ft (dimensionless) at τ (C, n) by cubic Hermite on the nodes, 0 out of contact;
+        with ``deriv`` also their rates d/dτ."""
+        pul = sol.pulse
+        k = sol.index
+        n = pul.n_steps
+        h = (pul.tau_c / n)[k][:, None]
+        s = tau / h
+        inside = (s >= 0) & (s <= n)
+        j = np.clip(s.astype(int), 0, n - 1)
+        th = s - j
+        kk = k[:, None]
+        t2 = th * th
+        t3 = t2 * th
+        h00, h10, h01, h11 = (
+            2 * t3 - 3 * t2 + 1,
+            (t3 - 2 * t2 + th) * h,
+            3 * t2 - 2 * t3,
+            (t3 - t2) * h,
+        )
+        series = [(pul.f, pul.df)]
+        if need_t and sol.tang is not None:
+            series.append((sol.tang.ft, sol.tang.dft))
+        out, rates = [], []
+        for y, dy in series:
+            y0, y1, d0, d1 = y[kk, j], y[kk, j + 1], dy[kk, j], dy[kk, j + 1]
+            out.append(np.where(inside, h00 * y0 + h10 * d0 + h01 * y1 + h11 * d1, 0.0))
+            if deriv:
+                g = (6 * t2 - 6 * th) * (y0 - y1) / h + (3 * t2 - 4 * th + 1) * d0
+                rates.append(np.where(inside, g + (3 * t2 - 2 * th) * d1, 0.0))
+        out[0] = np.maximum(out[0], 0.0)
+        if len(out) == 1:
+            out.append(None)
+            rates.append(None)
+        return (out[0], out[1], rates[0], rates[1]) if deriv else (out[0], out[1])
+
+    def _forces(self, data, P, sol, t, names, nderiv):
+        """Measured-axis forces at instants ``t`` (before the filter), one (C, n) array per
+        name, and for the first ``nderiv`` columns ∂/∂E* and ∂/∂t0 (nderiv, 2, n)."""
+        ds, T, Fs, v0 = self.scales(data, P)
+        t0 = P[:, _I["t0"]][:, None]
+        tau = (t[None, :] - t0) / T[:, None]
+        need_t = "Ft" in names or (data.sensor.crosstalk is not None and self.tangential != "none")
+        res = self._true_forces(sol, tau, need_t, deriv=nderiv > 0)
+        fn, ft = res[0] * Fs[:, None], None if res[1] is None else res[1] * Fs[:, None]
+        mixed = self._mix(data.sensor.crosstalk, fn, ft, names)
+        if not nderiv:
+            return mixed, None
+        b = slice(0, nderiv)
+        E = P[b, _I["E_eff"]][:, None]
+        Tb, Fb, tb = T[b, None], Fs[b, None], tau[b]
+        parts = []
+        for f, r in ((fn, res[2]), (ft, res[3])):
+            if f is None:
+                parts.append((None, None))
+                continue
+            rate = Fb * r[b]  # dF/dτ [N]
+            # F = Fs·f((t − t0)/T), Fs ∝ E*^{2/5}, T ∝ E*^{−2/5} (module notes)
+            parts.append((0.4 * (f[b] + rate * tb) / E, -rate / Tb))
+        dE = self._mix(data.sensor.crosstalk, parts[0][0], parts[1][0], names)
+        dt = self._mix(data.sensor.crosstalk, parts[0][1], parts[1][1], names)
+        return mixed, [np.stack([a, c], axis=1) for a, c in zip(dE, dt, strict=True)]
+
+    def predict(self, data: RecordData, P, sol: Solution, nderiv: int = 0):
+        """The model at every fitted sample of ``data``: one (C, n_c) array per channel [N];
+        with ``nderiv`` > 0 also ∂/∂E* [N/Pa] and ∂/∂t0 [N/s] of the first ``nderiv``
+        columns, one (nderiv, 2, n_c) array per channel."""
+        names = [c.name for c in data.channels]
+        if data.fine is None:
+            out, der = [], []
+            for ch in data.channels:
+                m, d = self._forces(data, P, sol, ch.t, [ch.name], nderiv)
+                out.append(m[0])
+                der.append(None if d is None else d[0])
+            return (out, der) if nderiv else out
+        from scipy.signal import sosfilt
+
+        # the forces vanish outside the contact: evaluate from the earliest onset to the
+        # latest end of any column, filter from there on (the filter rings past the end)
+        ds, T, Fs, v0 = self.scales(data, P)
+        t0 = P[:, _I["t0"]]
+        tc = sol.pulse.tau_c[sol.index] * T
+        fine = data.fine
+        lo = max(int(np.searchsorted(fine, t0.min())) - 1, 0)
+        hi = min(int(np.searchsorted(fine, (t0 + tc).max())) + 1, fine.size)
+        lo -= lo % data.oversample  # start on a sample instant
+        m, d = self._forces(data, P, sol, fine[lo:hi], names, nderiv)
+        ncol = P.shape[0]
+        rows = [x for x in m]
+        if nderiv:
+            rows += [x.reshape(-1, x.shape[-1]) for x in d]
+        stack = np.concatenate(rows, axis=0)
+        full = np.zeros((stack.shape[0], fine.size - lo))
+        full[:, : hi - lo] = stack
+        filt = sosfilt(data.sos, full, axis=-1)[:, :: data.oversample]
+        out = np.zeros((filt.shape[0], data.channels[0].t.size))
+        out[:, lo // data.oversample :] = filt
+        pred = [out[i * ncol : (i + 1) * ncol] for i in range(len(names))]
+        if not nderiv:
+            return pred
+        base = len(names) * ncol
+        der = [
+            out[base + i * 2 * nderiv : base + (i + 1) * 2 * nderiv].reshape(nderiv, 2, -1)
+            for i in range(len(names))
+        ]
+        return pred, der
+
+    @staticmethod
+    def _mix(C, fn, ft, names):
+        ft0 = np.zeros_like(fn) if ft is None else ft
+        if C is None:
+            return [fn if n == "Fn" else ft0 for n in names]
+        row = {"Fn": 0, "Ft": 1}
+        return [C[row[n], 0] * fn + C[row[n], 1] * ft0 for n in names]
+
+    def residuals(self, datas, Ps, nderiv=None):
+        """Weighted residuals (y − model)/σ, (C, n_data) per record, and the solutions; with
+        ``nderiv`` (one count per record) also ∂r/∂(E*, t0) of the leading columns,
+        (nderiv, 2, n_data) per record."""
+        sols = self.solve(datas, Ps)
+        out, ders = [], []
+        for i, (d, P, s) in enumerate(zip(datas, Ps, sols, strict=True)):
+            nd = 0 if nderiv is None else nderiv[i]
+            pred = self.predict(d, P, s, nd)
+            if nd:
+                pred, der = pred
+                ders.append(
+                    np.concatenate(
+                        [-x / c.sigma for c, x in zip(d.channels, der, strict=True)], axis=-1
+                    )
+                )
+            out.append(
+                np.concatenate(
+                    [(c.y[None, :] - m) / c.sigma for c, m in zip(d.channels, pred, strict=True)],
+                    axis=1,
+                )
+            )
+        return (out, sols, ders) if nderiv is not None else (out, sols)
+
+    # -------------------------------------------------------------- physics
+    def physics(self, data: RecordData, P, sol: Solution) -> dict:
+        """What one column's parameters imply: contact duration, peaks, outcomes, regime."""
+        ds, T, Fs, v0 = (float(a[0]) for a in self.scales(data, P[:1]))
+        k = int(sol.index[0])
+        pul = sol.pulse
+        sc = data.scene
+        m = float(sc.m)
+        vt0 = float(data.slip0(P[0, _I["speed"]]) + sc.spin * sc.radius)
+        out = {
+            "t_c": float(pul.tau_c[k] * T),
+            "F_max": float(pul.f[k].max() * Fs),
+            "delta_max": float(pul.x[k].max() * ds),
+            "e_n": float(-pul.u[k, -1]),
+            "Pn_final": float(pul.pn[k, -1] * data.m_eff * v0),
+        }
+        if sol.tang is not None:
+            tg = sol.tang
+            Pt = float(tg.p[k, -1] * data.m_eff * v0)
+            sign = -1.0 if data.slip0(P[0, _I["speed"]]) < 0 else 1.0
+            out.update(
+                {
+                    "Pt_final": Pt,
+                    "e_t": (sign * vt0 - Pt / data.m_eff) / (sign * vt0) if vt0 else math.nan,
+                    "omega": sign * float(sc.spin) + Pt / (float(sc.kappa) * m * float(sc.radius)),
+                    "regime": "sticking" if bool(tg.slip_stops[k]) else "sliding",
+                    "slide_share": float(tg.slide_share[k]),
+                    "Ft_max": float(tg.ft[k].max() * Fs),
+                    "Ft_min": float(tg.ft[k].min() * Fs),
+                }
+            )
+        return out
+
+    def curves(self, data: RecordData, P, sol: Solution, t) -> dict:
+        """The true (unfiltered) model forces of column 0 at instants ``t`` [s]."""
+        ds, T, Fs, v0 = self.scales(data, P[:1])
+        tau = (np.asarray(t, dtype=float)[None, :] - P[0, _I["t0"]]) / T[:, None]
+        fn, ft = self._true_forces(Solution(sol.pulse, sol.tang, sol.index[:1]), tau, True)
+        return {
+            "Fn": fn[0] * Fs[0],
+            "Ft": None if ft is None else ft[0] * Fs[0],
+            "Pn": None,
+        }

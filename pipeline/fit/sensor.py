@@ -1,0 +1,283 @@
+r"""What the fits know about the sensor, and how the forward model passes through it.
+
+A measured record is not the contact force: the transducer and its amplifier low-pass
+filter it (a causal filter also delays it), the axes leak into each other, and the ADC
+rounds it to its step (PHYSICS.md §5; :mod:`pipeline.sensor_model` models all of it for the
+synthetic records). The fits model what shifts the fitted parameters and leave out what
+only adds noise:
+
+- **the low-pass filter**, where the record says its bandwidth: the model force is computed
+  on a grid ``oversample`` times finer than the sampling, passed through the analogue
+  Butterworth low-pass of the stated order and cut-off discretised exactly for a
+  piecewise-linear input (first-order hold; the discretisation
+  :func:`pipeline.sensor_model.to_sensor` uses), then sampled. Left out, a causal filter
+  makes the onset t0 come out late by its group delay (0.75 µs for 300 kHz, order 2); on a
+  100 µs Garland–Rogers contact the pulse shape absorbs the rest (E*, e, μ move by ~1e-4 at
+  300 kHz, ~1e-3 at 75 kHz: ``tests/test_fit_contact.py``), more on shorter contacts;
+- **axis cross-talk**, where a calibration (cross-talk) matrix C is known: the model is
+  :math:`(F_n, F_t)_{meas} = C_{2\times2}\,(F_n, F_t)`. Without it, an Fn → Ft leak of
+  c biases μ by about c/μ (0.5 % of Fn on μ = 0.13: 4 %); the fit then checks whether the
+  out-of-plane channel Fy tracks Fn and warns if so (a sign of cross-talk);
+- **the ADC**: its step q sets a floor q/√12 under the noise level of the weights, and
+  samples at the converter's end codes (saturated) are left out of the fit.
+
+Where the values come from, first found wins: the ``sensor`` argument (a
+:class:`SensorSpec`, or a mapping such as a sample sidecar's ``"sensor"`` block); the
+``sensor_*`` attributes :func:`pipeline.sensor_model.to_sensor` writes; the ``# key: value``
+metadata of a sensor CSV (``bandwidth [Hz]``, ``filter order``, ``adc bits``,
+``full scale [N]``, ``sample rate [Hz]``, as ``meta_*`` attributes). A bandwidth without an
+order is taken as a 2nd-order Butterworth (the usual charge-amplifier low-pass), and the
+fit's notes say so.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import InputError, PipelineWarning
+from ..record import channel
+
+__all__ = ["SensorSpec", "sensor_spec", "CrossTalkWarning", "fy_tracks_fn"]
+
+
+class CrossTalkWarning(PipelineWarning):
+    """The out-of-plane channel follows the normal force: the sensor's axes leak."""
+
+
+_DEFAULT_ORDER = 2
+
+
+@dataclass(frozen=True)
+class SensorSpec:
+    """The sensor properties a fit models (module notes).
+
+    Attributes
+    ----------
+    bandwidth : float — −3 dB cut-off of the Butterworth low-pass [Hz]; inf: none
+    filter_order : int — its order
+    quantum : float — ADC step [N] (0: not quantised or unknown)
+    full_scale : float — ADC span [N] (±full_scale/2 saturates); inf: unknown
+    crosstalk : numpy.ndarray or None — 3×3 mixing matrix, rows measured (Fn, Ft, Fy),
+        columns true (Fn, Ft, Fy); None: unknown
+    source : str — where the values came from
+    notes : tuple of str — assumptions made (e.g. an order not stated)
+    """
+
+    bandwidth: float = math.inf
+    filter_order: int = _DEFAULT_ORDER
+    quantum: float = 0.0
+    full_scale: float = math.inf
+    crosstalk: np.ndarray | None = None
+    source: str = "none"
+    notes: tuple = field(default_factory=tuple)
+
+    @property
+    def filtered(self) -> bool:
+        return math.isfinite(self.bandwidth)
+
+    def delay(self) -> float:
+        """Low-frequency group delay of the filter [s] (0 without one): −Σ cos θ_k/ω_c over
+        the Butterworth poles ω_c·e^{iθ_k}, √2/(2π f_c) for order 2."""
+        if not self.filtered:
+            return 0.0
+        n = self.filter_order
+        k = np.arange(1, n + 1)
+        poles = np.exp(1j * np.pi * (2 * k + n - 1) / (2 * n))
+        return float(-np.sum(poles.real) / (2 * np.pi * self.bandwidth))
+
+    def sos(self, dt: float) -> np.ndarray:
+        """Second-order sections of the filter discretised at step ``dt`` [s] (FOH)."""
+        from ..sensor_model import _butterworth_foh
+
+        return _butterworth_foh(self.filter_order, self.bandwidth, dt)
+
+    def summary(self) -> dict:
+        return {
+            "bandwidth_Hz": self.bandwidth,
+            "filter_order": self.filter_order,
+            "quantum_N": self.quantum,
+            "full_scale_N": self.full_scale,
+            "crosstalk": None if self.crosstalk is None else self.crosstalk.tolist(),
+            "source": self.source,
+            "notes": list(self.notes),
+        }
+
+
+def _num(value, name, src):
+    if isinstance(value, (list, tuple, np.ndarray)):
+        value = np.asarray(value, dtype=float).ravel()
+        if value.size == 0:
+            raise InputError(f"sensor {name} is empty ({src})")
+        value = value[0]  # per-axis lists (Fn, Ft, Fy): the normal axis's
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"sensor {name} = {value!r} is not a number ({src})") from None
+
+
+def _from_mapping(m: Mapping, src: str) -> SensorSpec:
+    known = {
+        "rate",
+        "noise",
+        "offset",
+        "drift",
+        "bits",
+        "full_scale",
+        "quantum",
+        "bandwidth",
+        "filter",
+        "filter_order",
+        "oversample",
+        "crosstalk",
+        "crosstalk_matrix",
+        "pre_trigger",
+        "post_trigger",
+        "phase",
+        "t_start",
+        "trigger_time",
+        "seed",
+        "saturated",
+        "axes",
+    }
+    unknown = sorted(set(m) - known)
+    if unknown:
+        raise InputError(
+            f"unknown sensor field(s) {', '.join(map(repr, unknown))} ({src}); the fits read "
+            "bandwidth [Hz], filter_order, quantum [N] or bits with full_scale [N], and "
+            "crosstalk_matrix (3×3, row-major)"
+        )
+    notes = []
+    bw = _num(m["bandwidth"], "bandwidth", src) if "bandwidth" in m else math.inf
+    if bw <= 0:
+        raise InputError(f"sensor bandwidth = {bw!r} Hz must be positive ({src})")
+    if "filter_order" in m:
+        order = int(_num(m["filter_order"], "filter_order", src))
+    else:
+        order = _DEFAULT_ORDER
+        if math.isfinite(bw):
+            notes.append(
+                f"the sensor's filter order is not stated: a Butterworth of order {order} "
+                "is assumed"
+            )
+    if not 1 <= order <= 8:
+        raise InputError(f"sensor filter_order = {order!r} must be 1…8 ({src})")
+    fs = _num(m["full_scale"], "full_scale", src) if "full_scale" in m else math.inf
+    if "quantum" in m:
+        q = _num(m["quantum"], "quantum", src)
+    elif "bits" in m and math.isfinite(fs) and _num(m["bits"], "bits", src) > 0:
+        q = fs / 2.0 ** _num(m["bits"], "bits", src)
+    else:
+        q = 0.0
+    C = m.get("crosstalk_matrix")
+    if C is None and np.ndim(m.get("crosstalk", 0.0)) == 2:
+        C = m["crosstalk"]
+    if C is not None:
+        C = np.asarray(C, dtype=float)
+        if C.size != 9 or not np.all(np.isfinite(C)):
+            raise InputError(f"sensor crosstalk_matrix must hold 9 finite numbers ({src})")
+        C = C.reshape(3, 3)
+    return SensorSpec(bw, order, q, fs, C, src, tuple(notes))
+
+
+def _meta_float(attrs, *keys):
+    for k in keys:
+        if k in attrs:
+            try:
+                return float(attrs[k])
+            except (TypeError, ValueError):
+                return None
+    return None
+
+
+def sensor_spec(record, sensor=None) -> SensorSpec:
+    """The sensor a record was measured with (module notes give the order of sources).
+
+    Parameters
+    ----------
+    record : xarray.Dataset — the record
+    sensor : SensorSpec or mapping, optional — stated properties (win over the record's)
+
+    Returns
+    -------
+    SensorSpec
+    """
+    if isinstance(sensor, SensorSpec):
+        spec = sensor
+    elif isinstance(sensor, Mapping):
+        spec = _from_mapping(sensor, "the sensor argument")
+    elif sensor is not None:
+        raise InputError(
+            f"sensor must be a SensorSpec or a mapping (e.g. a sidecar's 'sensor' block), "
+            f"got {type(sensor).__name__}"
+        )
+    else:
+        attrs = record.attrs
+        fields = {k.removeprefix("sensor_"): v for k, v in attrs.items() if k.startswith("sensor_")}
+        if "bandwidth" in fields:
+            keep = {k: v for k, v in fields.items() if k in ("bandwidth", "filter_order")}
+            keep.update({k: v for k, v in fields.items() if k in ("quantum", "full_scale", "bits")})
+            if "crosstalk_matrix" in fields:
+                keep["crosstalk_matrix"] = fields["crosstalk_matrix"]
+            spec = _from_mapping(keep, "the record's sensor_* attributes")
+        else:
+            meta = {}
+            bw = _meta_float(attrs, "meta_bandwidth_hz", "meta_bandwidth")
+            if bw is not None:
+                meta["bandwidth"] = bw
+            order = _meta_float(attrs, "meta_filter_order")
+            if order is not None:
+                meta["filter_order"] = order
+            bits = _meta_float(attrs, "meta_adc_bits", "meta_bits")
+            fs = _meta_float(attrs, "meta_full_scale_n", "meta_full_scale")
+            if bits is not None:
+                meta["bits"] = bits
+            if fs is not None:
+                meta["full_scale"] = fs
+            spec = _from_mapping(meta, "the record's metadata") if meta else SensorSpec()
+    if any(k.startswith("decouple") for k in record.attrs) and spec.crosstalk is not None:
+        # the loader already applied a decoupling matrix: nothing left to mix
+        spec = SensorSpec(
+            spec.bandwidth,
+            spec.filter_order,
+            spec.quantum,
+            spec.full_scale,
+            None,
+            spec.source,
+            spec.notes + ("the record was decoupled when loaded: no cross-talk modelled",),
+        )
+    return spec
+
+
+def fy_tracks_fn(data, fn_model, *, min_leak: float = 0.002, z: float = 4.0):
+    """How much the out-of-plane channel follows the fitted normal force, where it does.
+
+    The slope k of Fy (less its baseline) on the fitted Fn as measured, by least squares
+    over the fitted samples, with its standard error σ_Fy/√ΣFn². Returns k [-] when
+    |k| > max(``min_leak``, ``z``·s.e.) — the axes leak into each other, and an Fn → Ft leak
+    of the same size would bias μ by about k/μ — else None (no Fy channel, a known
+    cross-talk matrix, or no significant slope).
+
+    Parameters
+    ----------
+    data : pipeline.fit.forward.RecordData
+    fn_model : numpy.ndarray — the fitted Fn at ``data``'s Fn samples [N]
+    """
+    rec = data.record
+    if "Fy" not in rec or data.sensor.crosstalk is not None:
+        return None
+    t, fy = channel(rec, "Fy")
+    fn_t = data.channels[0].t
+    base = data.window.baseline.get("Fy")
+    y = np.interp(fn_t, t, fy - (base(t) if base is not None else 0.0))
+    m = np.asarray(fn_model, dtype=float)
+    ss = float(np.dot(m, m))
+    sigma = float(data.window.noise.get("Fy", np.nan))
+    if not (ss > 0 and np.isfinite(sigma) and sigma > 0):
+        return None
+    k = float(np.dot(y, m) / ss)
+    se = sigma / math.sqrt(ss)
+    return k if abs(k) > max(min_leak, z * se) else None

@@ -1,0 +1,212 @@
+r"""Uncertainty of fitted parameters: covariance, block bootstrap, profiles and bounds.
+
+**Covariance.** :math:`C = (J^\top J)^{-1}\,\max(1, \chi^2_\nu)` with J the Jacobian of
+the weighted residuals at the optimum: the weights come from the noise measured outside the
+contact, so :math:`\chi^2_\nu \approx 1` for a model that fits; a fit worse than the noise
+(structure left in the residuals) widens the intervals, a fit that looks better than the
+noise does not narrow them. Its interval is :math:`\hat\theta \pm z\,\sigma`.
+
+**Block bootstrap of residuals.** The residuals of a sensor record need not be independent
+(a filter after the noise source correlates neighbours), and ignoring that makes intervals
+too narrow. Replicates y* = model + σ·r*, with r* drawn as circular blocks of the weighted
+residual series of each channel (Politis & Romano 1992), rescaled by √(N/(N − p)) for the
+fitted degrees of freedom (Davison & Hinkley 1997, §6.2.3), are refitted all at once
+(:func:`pipeline.fit.engine.gauss_newton_many`); the interval is the percentile interval of
+the refits. The block length is chosen from the residuals' autocorrelation by the rule of
+Politis & White (2004, with the correction of Patton, Politis & White 2009) for the
+circular block bootstrap, :math:`b = (2\hat G^2/\hat D)^{1/3} N^{1/3}`, which is 1 (the
+ordinary residual bootstrap) for white residuals.
+
+**Profiles and identifiability.** Some parameters are bounded by the data on one side only:
+μ in an impact that sticks throughout (any μ above the largest Ft/Fn the contact needed
+gives the same forces), ``kt_scale`` in one that slides throughout (any stiffness above the
+one that would stick). For those the fit profiles χ² (the others refitted at each point)
+over a factor 30 each way; where χ² stays within :math:`\chi^2_1(0.99)` of its minimum up to
+the largest value, the parameter is reported as not identifiable, with its lower bound at
+the requested level (a one-sided bound: :math:`\Delta\chi^2 = z_{level}^2` scaled like the
+covariance) and +inf as the upper end of its interval.
+
+References
+----------
+D. N. Politis, J. P. Romano, "A circular block-resampling procedure for stationary data",
+in *Exploring the Limits of Bootstrap*, Wiley (1992) 263–270.
+D. N. Politis, H. White, Econometric Rev. 23:53 (2004), doi:10.1081/ETC-120028836;
+A. Patton, D. N. Politis, H. White, Econometric Rev. 28:372 (2009),
+doi:10.1080/07474930802459016.
+A. C. Davison, D. V. Hinkley, *Bootstrap Methods and their Application*, CUP (1997),
+doi:10.1017/CBO9780511802843.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy import special, stats
+
+from .engine import Problem, gauss_newton_many
+
+__all__ = [
+    "covariance",
+    "block_length",
+    "block_bootstrap",
+    "profile",
+    "normal_interval",
+    "percentile_interval",
+    "one_sided_bound",
+]
+
+
+def covariance(J, redchi):
+    """(JᵀJ)⁻¹·max(1, χ²_ν) by SVD of the column-scaled Jacobian; NaN rows where singular."""
+    J = np.asarray(J, dtype=float)
+    s = np.sqrt(np.sum(J * J, axis=0))
+    s = np.where(s > 0, s, 1.0)
+    U, w, Vt = np.linalg.svd(J / s, full_matrices=False)
+    good = w > w.max() * 1e-10 if w.size else np.zeros(0, bool)
+    inv = (Vt[good].T / w[good] ** 2) @ Vt[good]
+    cov = inv / np.outer(s, s) * max(1.0, float(redchi))
+    if not np.all(good):
+        null = np.abs(Vt[~good]).max(axis=0) > 1e-6
+        cov[null, :] = np.nan
+        cov[:, null] = np.nan
+    return cov
+
+
+def _acf(x, max_lag):
+    x = np.asarray(x, dtype=float) - np.mean(x)
+    n = x.size
+    var = float(np.dot(x, x)) / n
+    if var == 0:
+        return np.zeros(max_lag + 1)
+    return np.array([np.dot(x[: n - k], x[k:]) / n / var for k in range(max_lag + 1)])
+
+
+def block_length(r) -> int:
+    """Circular-block-bootstrap block length of a series (Politis–White rule, module notes)."""
+    r = np.asarray(r, dtype=float)
+    n = r.size
+    if n < 10:
+        return 1
+    kn = max(5, int(math.ceil(math.sqrt(math.log10(n)))))
+    max_lag = min(n - 1, max(2 * kn, int(math.ceil(math.sqrt(n))) + kn))
+    rho = _acf(r, max_lag)
+    c = 2.0 * math.sqrt(math.log10(n) / n)
+    m_hat = max_lag - kn
+    for m in range(0, max_lag - kn + 1):
+        if np.all(np.abs(rho[m + 1 : m + 1 + kn]) < c):
+            m_hat = m
+            break
+    M = 2 * m_hat
+    if M == 0:
+        return 1
+    k = np.arange(-M, M + 1)
+    s = np.abs(k) / M
+    lam = np.where(s <= 0.5, 1.0, np.where(s <= 1.0, 2.0 * (1.0 - s), 0.0))
+    acov = _acf(r, M) * np.var(r)
+    R = acov[np.abs(k)]
+    G = float(np.sum(lam * np.abs(k) * R))
+    g0 = float(np.sum(lam * R))
+    D = 4.0 / 3.0 * g0 * g0
+    if D <= 0:
+        return 1
+    b = (2.0 * G * G / D) ** (1.0 / 3.0) * n ** (1.0 / 3.0)
+    return int(min(max(1, math.ceil(b)), max(1, n // 3)))
+
+
+def _circular_blocks(rng, r, b, B):
+    """B circular-block resamples of the series r (block length b), shape (B, n)."""
+    n = r.size
+    nb = int(math.ceil(n / b))
+    starts = rng.integers(0, n, size=(B, nb))
+    idx = (starts[:, :, None] + np.arange(b)[None, None, :]).reshape(B, -1)[:, :n] % n
+    return r[idx]
+
+
+def block_bootstrap(problem: Problem, theta, r, J, *, n_boot, seed, lower, upper, iters=4):
+    """Refits of block-bootstrap replicates of the weighted residuals ``r`` (module notes).
+
+    Parameters
+    ----------
+    problem : Problem — the fitted problem
+    theta : numpy.ndarray (p,) — the fitted parameters
+    r : numpy.ndarray (N,) — weighted residuals at ``theta`` (records and channels in the
+        problem's order)
+    J : numpy.ndarray (N, n_vary) — their Jacobian (shared by the refits: simplified
+        Gauss–Newton from the optimum, :func:`pipeline.fit.engine.gauss_newton_many`)
+    n_boot : int — replicates; seed : int — of the resampling
+    lower, upper : numpy.ndarray (p,) — bounds
+
+    Returns
+    -------
+    Theta : numpy.ndarray (n_boot, p) — the refits; blocks : dict — block length per series
+    """
+    rng = np.random.default_rng(seed)
+    n = r.size
+    p = problem.vary.size
+    inflate = math.sqrt(n / max(n - p, 1))
+    new_r = np.empty((n_boot, n))
+    blocks = {}
+    start = 0
+    for i, d in enumerate(problem.datas):
+        for c in d.channels:
+            seg = r[start : start + c.t.size]
+            b = block_length(seg)
+            blocks[f"{i}:{c.name}"] = b
+            new_r[:, start : start + c.t.size] = _circular_blocks(rng, seg - seg.mean(), b, n_boot)
+            start += c.t.size
+    # y* = model + σ·r*: in weighted units the data change by r* − r
+    dy = inflate * new_r - r[None, :]
+    Theta0 = np.repeat(np.asarray(theta, float)[None, :], n_boot, axis=0)
+    Theta, _ = gauss_newton_many(
+        problem, Theta0, dy, lower=lower, upper=upper, iters=iters, jacobian=J
+    )
+    return Theta, blocks
+
+
+def profile(problem: Problem, theta, k, grid, *, lower, upper, iters=4):
+    """χ² along parameter ``k`` (index into θ) held at each ``grid`` value, the others
+    refitted (all grid points at once)."""
+    Theta0 = np.repeat(np.asarray(theta, float)[None, :], len(grid), axis=0)
+    Theta0[:, k] = grid
+    freeze = np.zeros(Theta0.shape[1], dtype=bool)
+    freeze[k] = True
+    _, chi2 = gauss_newton_many(
+        problem, Theta0, lower=lower, upper=upper, iters=iters, freeze=freeze
+    )
+    return chi2
+
+
+def normal_interval(value, stderr, level):
+    z = float(special.ndtri(0.5 + level / 2.0))
+    return (value - z * stderr, value + z * stderr)
+
+
+def percentile_interval(samples, level):
+    s = np.asarray(samples, dtype=float)
+    s = s[np.isfinite(s)]
+    if s.size < 10:
+        return (math.nan, math.nan)
+    a = (1.0 - level) / 2.0
+    lo, hi = np.quantile(s, [a, 1.0 - a])
+    return (float(lo), float(hi))
+
+
+def one_sided_bound(grid, dchi2, level, scale=1.0):
+    """Smallest grid value whose Δχ²/scale is within z_level² (a one-sided lower bound)."""
+    z2 = float(special.ndtri(level)) ** 2
+    grid = np.asarray(grid, dtype=float)
+    d = np.asarray(dchi2, dtype=float) / scale
+    inside = d <= z2
+    if not inside.any():
+        return math.nan
+    i = int(np.argmax(inside))
+    if i == 0:
+        return float(grid[0])
+    # interpolate Δχ² linearly between the last point outside and the first inside
+    g0, g1, d0, d1 = grid[i - 1], grid[i], d[i - 1], d[i]
+    return float(g0 + (z2 - d0) * (g1 - g0) / (d1 - d0))
+
+
+def chi2_quantile(level, df=1):
+    return float(stats.chi2.ppf(level, df))
