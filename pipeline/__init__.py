@@ -10,7 +10,17 @@ from .errors import InputError
 from .scene import Scene
 
 __version__ = "0.1.0"
-__all__ = ["InputError", "Scene", "advise", "analyse", "fit_outcomes", "__version__"]
+__all__ = [
+    "InputError",
+    "Scene",
+    "advise",
+    "analyse",
+    "fit_contact",
+    "fit_campaign",
+    "fit_outcomes",
+    "select_model",
+    "__version__",
+]
 
 
 _SUBMODULES = {
@@ -45,6 +55,8 @@ def __getattr__(name):
         return importlib.import_module(".advice", __name__).advise
     if name == "fit_outcomes":
         return importlib.import_module(".fit.outcomes", __name__).fit_outcomes
+    if name in ("fit_contact", "fit_campaign", "select_model"):
+        return getattr(importlib.import_module(".fit", __name__), name)
     if name in _SUBMODULES:
         return importlib.import_module(f".{name}", __name__)
     raise AttributeError(f"module 'pipeline' has no attribute {name!r}")

@@ -70,9 +70,13 @@ class Analysis:
     source : str
     options : dict
     sources : dict
-        Where the rigid model's μ and e came from: ``"scene"``, ``"record"`` (estimated
-        from the record: μ by :func:`estimate_mu`, e by Poisson's coefficient) or
-        ``"given"`` (a number passed to :func:`analyse`).
+        Where the rigid model's μ and e came from: ``"scene"``, ``"fit"`` (fitted to the
+        record by :func:`pipeline.select_model`; value, uncertainty and model in
+        :attr:`fitted`), ``"record"`` (estimated from the record without a contact model: μ
+        by :func:`estimate_mu`, e by Poisson's coefficient) or ``"given"`` (a number passed
+        to :func:`analyse`).
+    model_selection : pipeline.fit.ModelSelection or None
+        The contact models fitted to the record when μ or e came from a fit.
     resolution : pipeline.percussion.Resolution
         What the record's sampling, noise, ADC, bandwidth and baseline let the percussions
         resolve; ``resolution.flags`` names every failure region it is in (each also a
@@ -93,6 +97,40 @@ class Analysis:
     options: dict
     sources: dict = dataclasses.field(default_factory=dict)
     resolution: object = None
+    model_selection: object = None
+
+    @property
+    def fitted(self) -> dict:
+        """For μ and e taken from the fit: ``{name: {"value", "stderr", "ci95",
+        "identifiable", "model"}}`` (the chosen model's; a μ the data bound only from below
+        has its lower bound as value and ci95 (bound, inf))."""
+        sel = self.model_selection
+        if sel is None:
+            return {}
+        f = sel.fit
+        ci = f.ci(0.95)
+        out = {}
+        for name, src in self.sources.items():
+            if src != "fit":
+                continue
+            model = f"{sel.chosen}" + (f"+{sel.chosen_normal}" if sel.chosen_normal else "")
+            if name in f.vary:
+                out[name] = {
+                    "value": f.values[name],
+                    "stderr": f.stderr[name],
+                    "ci95": list(ci[name]),
+                    "identifiable": bool(f.identifiable[name]),
+                    "model": model,
+                }
+            else:  # the elastic law: e = 1 by the model, not by the data
+                out[name] = {
+                    "value": f.values[name],
+                    "stderr": 0.0,
+                    "ci95": [f.values[name]] * 2,
+                    "identifiable": True,
+                    "model": model,
+                }
+        return out
 
     @property
     def record(self) -> xr.Dataset:
@@ -114,6 +152,7 @@ class Analysis:
                 "scene": self.scene.to_dict(),
                 "rigid_scene": self.rigid_scene.to_dict(),
                 "rigid_scene_sources": self.sources,
+                "fitted": self.fitted,
                 "options": {k: v for k, v in self.options.items() if _jsonable(v)},
                 "window": self.window.summary(),
                 "fits": {
@@ -224,6 +263,7 @@ def analyse(
     n_boot: int = 200,
     seed: int = 0,
     window_options: dict | None = None,
+    fit_options: dict | None = None,
 ) -> Analysis:
     """Analyse one record against Routh's rigid model: window, fits, percussions, score.
 
@@ -239,11 +279,15 @@ def analyse(
         Impose F = 0 at the window's ends in the polynomial fits.
     source : {"auto", "simpson", "trapezoid", "fit"}
         Which percussions are scored and split (module notes).
-    mu, e : "scene", "record" or float
-        Friction coefficient and restitution of the rigid prediction: the scene's (the
-        record's when the scene does not give it, ``Scene(mu=None)``), the record's (μ by
-        :func:`estimate_mu`, e by Poisson's coefficient), or a number. Where each came
-        from is in ``Analysis.sources``.
+    mu, e : "scene", "fit", "record" or float
+        Friction coefficient and restitution of the rigid prediction: the scene's; fitted
+        to the record (``"fit"``: the cheapest adequate contact model,
+        :func:`pipeline.select_model`, with its uncertainty); estimated from the record
+        without a contact model (``"record"``: μ by :func:`estimate_mu`, e by Poisson's
+        coefficient); or a number. A scene that does not give one (``Scene(mu=None)``)
+        sends ``"scene"`` to the fit when it has the elastic constants E and ν, else to the
+        record's estimate. Where each came from is in ``Analysis.sources`` (and the fitted
+        values with their uncertainty in ``Analysis.fitted``).
     split_method : str
         How maximum compression is found (:func:`pipeline.percussion.compression_split`).
     n_boot : int
@@ -253,6 +297,10 @@ def analyse(
         Seed of the bootstrap.
     window_options : dict, optional
         Passed to :func:`pipeline.window.find_contact`.
+    fit_options : dict, optional
+        Passed to :func:`pipeline.select_model` when μ or e come from the fit, e.g.
+        ``{"sensor": sidecar["sensor"]}`` for a rig whose cross-talk matrix is known (an
+        uncorrected Fn → Ft leak biases μ by about the leak over μ).
 
     Returns
     -------
@@ -284,9 +332,21 @@ def analyse(
     perc = _perc.percussions(win, fits)
     split = _perc.compression_split(perc, scene, method=split_method, source=source)
     mu_rec = estimate_mu(win, split.t_c)
+    selection = None
+    if _wants_fit(mu, scene.mu, scene) or _wants_fit(e, scene.e, scene):
+        from .fit import select_model
+
+        selection = select_model(
+            record,
+            scene,
+            n_boot=n_boot,
+            seed=seed,
+            window_options=window_options,
+            **(fit_options or {}),
+        )
     (mu_v, mu_src), (e_v, e_src) = (
-        _choose(mu, scene.mu, mu_rec, "mu"),
-        _choose(e, scene.e, split.e_poisson, "e"),
+        _choose(mu, scene.mu, mu_rec, "mu", selection),
+        _choose(e, scene.e, split.e_poisson, "e", selection),
     )
     rigid_scene = scene.replace(mu=mu_v, e=e_v)
     rigid = _rigid.sphere_on_plane(rigid_scene)
@@ -339,16 +399,31 @@ def analyse(
         options=options,
         sources={"mu": mu_src, "e": e_src},
         resolution=res,
+        model_selection=selection,
     )
 
 
-def _choose(how, from_scene, from_record, name) -> tuple[float, str]:
-    """The value of μ or e for the rigid model, and where it came from ("scene", "record"
-    or "given"). A scene that does not give the value (None) sends "scene" to the record:
-    the rigid model is never fed a value nobody gave."""
+def _wants_fit(how, from_scene, scene) -> bool:
+    """Whether μ or e is to come from a contact fit (see :func:`analyse`)."""
+    if isinstance(how, str) and how == "fit":
+        return True
+    can_fit = scene.E is not None and scene.nu is not None
+    return isinstance(how, str) and how == "scene" and from_scene is None and can_fit
+
+
+def _choose(how, from_scene, from_record, name, selection=None) -> tuple[float, str]:
+    """The value of μ or e for the rigid model, and where it came from ("scene", "fit",
+    "record" or "given"). A scene that does not give the value (None) sends "scene" to the
+    fit (or, without elastic constants, to the record): the rigid model is never fed a
+    value nobody gave."""
     if isinstance(how, str):
         if how == "scene" and from_scene is not None:
             return float(from_scene), "scene"
+        if how in ("scene", "fit") and selection is not None:
+            f = selection.fit
+            if name not in f.values:
+                raise InputError(f"the fitted model has no {name}; give it")
+            return float(f.values[name]), "fit"
         if how in ("scene", "record"):
             if not np.isfinite(from_record):
                 raise InputError(
@@ -356,7 +431,7 @@ def _choose(how, from_scene, from_record, name) -> tuple[float, str]:
                     f"give it (Scene({name}=...) or {name}=<number>)"
                 )
             return float(np.clip(from_record, 0.0, 1.0 if name == "e" else np.inf)), "record"
-        raise InputError(f"{name}={how!r}: use 'scene', 'record' or a number")
+        raise InputError(f"{name}={how!r}: use 'scene', 'fit', 'record' or a number")
     return float(how), "given"
 
 

@@ -5,6 +5,10 @@ contact — E*, the restitution and its damping law, μ, the tangential stiffnes
 uncertainties a paper can quote.
 
 - :func:`fit_contact` (:mod:`.contact`) — one record → :class:`ContactFit`;
+- :func:`fit_campaign` (:mod:`.campaign`) — many records, shared parameters and the
+  hypotheses μ = a + b·v_t0 and constant e or constant α → :class:`CampaignFit`;
+- :func:`select_model` (:mod:`.select`) — the cheapest model the record needs →
+  :class:`ModelSelection`.
 
 Underneath: :mod:`.pulse` (the normal impact as a master curve tabulated once),
 :mod:`.tangential` (the tangential contact on it, solved piecewise), :mod:`.sensor` (filter,
@@ -31,7 +35,9 @@ from ..smooth import (  # noqa: F401  (backward-compatible names of pipeline.smo
     fit_window,
     runs_test,
 )
+from .campaign import CampaignFit, fit_campaign
 from .contact import ContactFit, fit_contact
+from .select import ModelSelection, select_model
 from .sensor import CrossTalkWarning, SensorSpec
 
 __all__ = [
@@ -39,5 +45,8 @@ __all__ = [
     "fit_contact",
     "SensorSpec",
     "CrossTalkWarning",
+    "CampaignFit",
+    "fit_campaign",
+    "ModelSelection",
+    "select_model",
 ]
-

@@ -1,0 +1,89 @@
+"""``pipeline fit FILE``: the contact parameters of one record, as a report a person reads."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from ._common import log_warnings, read_scene
+
+
+def register(sub) -> None:
+    p = sub.add_parser(
+        "fit",
+        help="fit the contact parameters (E*, e, μ, kt_scale) of one record; prints a report",
+    )
+    p.add_argument("file", type=Path)
+    p.add_argument("--scene", type=Path, help="JSON file of Scene fields (SI units)")
+    p.add_argument(
+        "--model",
+        default="hunt_crossley+mindlin",
+        help="NORMAL+TANGENTIAL, e.g. hunt_crossley+mindlin (default), hertz+coulomb; "
+        "'auto' fits the ladder rigid → coulomb → mindlin and keeps the cheapest adequate",
+    )
+    p.add_argument(
+        "--sensor",
+        type=Path,
+        help="JSON file of sensor properties (bandwidth [Hz], filter_order, quantum [N], "
+        "crosstalk_matrix); default: the sidecar's 'sensor' block, else the record's metadata",
+    )
+    p.add_argument("--boot", default=200, type=int, help="block-bootstrap replicates")
+    p.add_argument("--seed", default=0, type=int)
+    p.add_argument("--out", type=Path, help="write fit.json, fit.txt and fit.png there")
+    p.add_argument("--json", action="store_true", help="print the strict-JSON summary")
+    p.set_defaults(func=run)
+
+
+def _sensor(args):
+    from ..errors import InputError
+    from ..report import read_sidecar
+
+    if args.sensor is not None:
+        try:
+            return json.loads(args.sensor.read_text(encoding="utf-8"))
+        except (OSError, ValueError, UnicodeDecodeError) as exc:
+            raise InputError(f"cannot read the sensor file: {exc}", path=args.sensor) from None
+    return read_sidecar(args.file).get("sensor")
+
+
+def run(args) -> int:
+    from .. import figures
+    from .._atomic import atomic_write_text
+    from ..errors import InputError
+    from ..fit import fit_contact, select_model
+    from ..io import load
+
+    scene = read_scene(args.file, args.scene)
+    sensor = _sensor(args)
+    with log_warnings():
+        record = load(args.file)
+        if args.model == "auto":
+            sel = select_model(record, scene, sensor=sensor, n_boot=args.boot, seed=args.seed)
+            fit = sel.fit
+            head = sel.report() + "\n\n"
+            summary = sel.summary()
+        else:
+            normal, plus, tangential = args.model.partition("+")
+            if not plus:
+                raise InputError(
+                    f"--model {args.model!r}: give NORMAL+TANGENTIAL, e.g. hunt_crossley+mindlin"
+                )
+            fit = fit_contact(
+                record,
+                scene,
+                normal=normal,
+                tangential=tangential,
+                sensor=sensor,
+                n_boot=args.boot,
+                seed=args.seed,
+            )
+            head = ""
+            summary = fit.summary()
+    text = head + fit.report()
+    if args.out is not None:
+        args.out.mkdir(parents=True, exist_ok=True)
+        atomic_write_text(args.out / "fit.json", json.dumps(summary, indent=1, allow_nan=False))
+        atomic_write_text(args.out / "fit.txt", text + "\n")
+        figures.save(figures.fig_contact_fit(fit), args.out / "fit.png")
+    print(json.dumps(summary, indent=1, allow_nan=False) if args.json else text)
+    return 0

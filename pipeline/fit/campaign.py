@@ -1,0 +1,483 @@
+r"""Fit many records at once: shared parameters and the hypotheses a campaign can decide.
+
+A lab measures angles × speeds × repeats. Some parameters are properties of the materials
+and should be one number for the whole campaign (E*, and the damping or the friction law),
+others belong to each impact (its onset t0; its tangential stiffness, which depends on the
+surfaces' state). :func:`fit_campaign` fits all the records in one least-squares problem
+(:mod:`pipeline.fit.engine`; lmfit drives it) with
+
+- ``shared``: the parameters that are one number for all records (default E*); the others
+  of ``E_eff``, ``kt_scale`` are fitted per record (``kt_scale_3`` is record 3's);
+- ``mu_law``: ``"constant"`` (one μ) or ``"linear_vt0"``, μ_i = a + b·v_t0,i with the
+  initial tangential speed of each impact [m/s], as Garland & Rogers (2009) found
+  (parameters ``mu_a`` [-], ``mu_b`` [s/m]);
+- ``damping``: ``"constant_e"`` (one restitution for every speed) or ``"constant_alpha"``
+  (one material constant: c = α·v0 for the Hunt–Crossley family, so e falls as the speed
+  rises; PHYSICS.md §4).
+
+The hypotheses are fitted side by side (all four combinations by default) and
+:meth:`CampaignFit.compare` tabulates them: χ², AIC = χ² + 2k, BIC = χ² + k·ln N (the noise
+is measured, :mod:`pipeline.fit.result`), and for nested pairs (constant μ inside the linear
+law: b = 0) the likelihood ratio Δχ², scaled by χ²_ν of the larger model when that exceeds 1,
+with its χ²₁ p-value. The damping hypotheses are not nested (same number of parameters):
+AIC and BIC decide, and ΔAIC > 10 is decisive (Burnham & Anderson 2002).
+
+Starting values come from a fit of each record alone (:func:`pipeline.fit.fit_contact`,
+no bootstrap): E* and ``kt_scale`` their medians, e or α from the records' restitutions, μ
+(or a, b) by weighted least squares on the identifiable μ_i.
+
+References
+----------
+M. J. Garland, R. J. Rogers, J. Appl. Mech. 76:031015 (2009), doi:10.1115/1.3086432.
+K. P. Burnham, D. R. Anderson, *Model Selection and Multimodel Inference*, 2nd ed.,
+Springer (2002), doi:10.1007/b97636.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+import warnings
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .._json import json_ready
+from ..errors import InputError, PipelineWarning
+from ..scene import Scene
+from .contact import _e_of_alpha, fit_contact
+from .engine import Design
+from .forward import ForwardModel, prepare
+from .procedure import run_fit
+from .result import FitResult
+
+__all__ = ["CampaignFit", "fit_campaign", "MU_LAWS", "DAMPING"]
+
+MU_LAWS = ("constant", "linear_vt0")
+DAMPING = ("constant_e", "constant_alpha")
+_SHAREABLE = ("E_eff", "kt_scale")
+
+
+class _Campaign(Design):
+    """Global → per-record parameters for a campaign hypothesis (module notes)."""
+
+    def __init__(self, datas, law, shared, mu_law, damping, tangential):
+        self.datas, self.law = datas, law
+        self.mu_law, self.damping = mu_law, damping
+        R = len(datas)
+        names, scale = [], []
+
+        def add(name, sc):
+            names.append(name)
+            scale.append(sc)
+
+        self.E = self._slot(add, "E_eff", "E_eff" in shared, R, 1e9)
+        self.damp = len(names)
+        if law != "hertz":
+            add(
+                "alpha" if damping == "constant_alpha" else "e",
+                1e-3 if damping == "constant_alpha" else 0.1,
+            )
+        if tangential == "none":
+            self.mu = None
+        elif mu_law == "constant":
+            self.mu = [len(names)]
+            add("mu", 0.01)
+        else:
+            self.mu = [len(names), len(names) + 1]
+            add("mu_a", 0.01)
+            add("mu_b", 0.01)
+        self.kt = (
+            self._slot(add, "kt_scale", "kt_scale" in shared, R, 0.1)
+            if tangential == "mindlin"
+            else None
+        )
+        self.speed = [len(names) + i for i in range(R)]
+        for i in range(R):
+            add(f"speed_{i}", 0.1)
+        self.t0 = [len(names) + i for i in range(R)]
+        for i, d in enumerate(datas):
+            add(f"t0_{i}", d.window.duration)
+        self.names = tuple(names)
+        self.scale = np.array(scale, dtype=float)
+        self.vt0 = np.array([float(d.scene.v_t0) for d in datas])
+
+    @staticmethod
+    def _slot(add, name, is_shared, R, sc):
+        if is_shared:
+            add(name, sc)
+            return None
+        out = []
+        for i in range(R):
+            out.append(None)
+            add(f"{name}_{i}", sc)
+        return out
+
+    def _index(self, name, i):
+        return self.names.index(name if name in self.names else f"{name}_{i}")
+
+    def local(self, theta):
+        theta = np.atleast_2d(theta)
+        B = theta.shape[0]
+        out = []
+        for i, d in enumerate(self.datas):
+            P = np.empty((B, 6))
+            P[:, 0] = theta[:, self._index("E_eff", i)]
+            P[:, 4] = theta[:, self.speed[i]]
+            P[:, 5] = theta[:, self.t0[i]]
+            if self.law == "hertz":
+                P[:, 1] = 1.0
+            elif self.damping == "constant_alpha":
+                P[:, 1] = _e_of_alpha(self.law, theta[:, self.damp], P[:, 0], P[:, 4], d)
+            else:
+                P[:, 1] = theta[:, self.damp]
+            if self.mu is None:
+                P[:, 2] = 0.0
+            elif len(self.mu) == 1:
+                P[:, 2] = theta[:, self.mu[0]]
+            else:
+                P[:, 2] = np.maximum(theta[:, self.mu[0]] + theta[:, self.mu[1]] * self.vt0[i], 0.0)
+            P[:, 3] = 1.0 if self.kt is None else theta[:, self._index("kt_scale", i)]
+            out.append(P)
+        return out
+
+
+@dataclass(frozen=True, eq=False)
+class CampaignFit(FitResult):
+    """One joint fit of many records (:func:`fit_campaign`; API.md, "Fitting").
+
+    Besides the attributes of :class:`~pipeline.fit.result.FitResult`:
+
+    Attributes
+    ----------
+    mu_law, damping : str — the hypothesis of this fit
+    shared : tuple of str — parameters shared by every record
+    records : tuple of str — the records' names (``source`` attributes), in order
+    model : pipeline.fit.forward.ForwardModel
+    datas : tuple of pipeline.fit.forward.RecordData
+    hypotheses : dict — every hypothesis fitted, ``(mu_law, damping)`` → CampaignFit
+        (this one included)
+    """
+
+    mu_law: str = "constant"
+    damping: str = "constant_e"
+    shared: tuple = ()
+    records: tuple = ()
+    model: object = None
+    datas: tuple = ()
+    problem: object = None
+    hypotheses: dict = field(default_factory=dict)
+
+    def per_record(self):
+        """Each record's parameters under this fit (pandas DataFrame, one row per record):
+        E_eff [Pa], e, mu, kt_scale, speed [m/s], t0 [s], v_t0 [m/s], angle_deg."""
+        import pandas as pd
+
+        Ps = self.problem.design.local(self.theta[None, :])
+        rows = []
+        for name, d, P in zip(self.records, self.datas, Ps, strict=True):
+            rows.append(
+                {
+                    "record": name,
+                    "angle_deg": float(d.scene.angle_deg),
+                    "speed": float(P[0, 4]),
+                    "v_t0": float(d.scene.v_t0),
+                    "E_eff": float(P[0, 0]),
+                    "e": float(P[0, 1]),
+                    "mu": float(P[0, 2]),
+                    "kt_scale": float(P[0, 3]),
+                    "t0": float(P[0, 5]),
+                }
+            )
+        return pd.DataFrame(rows)
+
+    def compare(self):
+        """Every hypothesis fitted, side by side (pandas DataFrame, best AIC first).
+
+        Columns: ``mu_law``, ``damping``, ``k`` (varied parameters), ``chi2``, ``redchi``,
+        ``aic``, ``bic``, ``delta_aic``, ``delta_bic`` (from the best), ``lr``, ``lr_p``
+        (likelihood ratio against the same damping with constant μ, for the linear law),
+        and the shared parameters' values.
+        """
+        import pandas as pd
+        from scipy import stats
+
+        hyp = self.hypotheses or {(self.mu_law, self.damping): self}
+        rows = []
+        for (ml, dm), f in hyp.items():
+            row = {
+                "mu_law": ml,
+                "damping": dm,
+                "k": f.nvarys,
+                "chi2": f.chi2,
+                "redchi": f.redchi,
+                "aic": f.aic,
+                "bic": f.bic,
+                "lr": math.nan,
+                "lr_p": math.nan,
+            }
+            if ml == "linear_vt0" and ("constant", dm) in hyp:
+                small = hyp[("constant", dm)]
+                lr = max(small.chi2 - f.chi2, 0.0) / max(1.0, f.redchi)
+                row["lr"] = lr
+                row["lr_p"] = float(stats.chi2.sf(lr, f.nvarys - small.nvarys))
+            v = f.values
+            for n in ("E_eff", "e", "alpha", "mu", "mu_a", "mu_b", "kt_scale"):
+                if n in v:
+                    row[n] = v[n]
+            rows.append(row)
+        df = pd.DataFrame(rows)
+        df["delta_aic"] = df["aic"] - df["aic"].min()
+        df["delta_bic"] = df["bic"] - df["bic"].min()
+        return df.sort_values("aic").reset_index(drop=True)
+
+    @property
+    def best(self) -> CampaignFit:
+        """The hypothesis with the lowest AIC."""
+        hyp = self.hypotheses or {(self.mu_law, self.damping): self}
+        return min(hyp.values(), key=lambda f: f.aic)
+
+    def report(self) -> str:
+        lines = [
+            f"Campaign fit of {len(self.records)} records: {self.model.name}, μ law "
+            f"{self.mu_law!r}, damping {self.damping!r}, shared {', '.join(self.shared) or '-'}",
+            f"  {self.n_data} samples, χ² = {self.chi2:.6g}, χ²_ν = {self.redchi:.4g}, "
+            f"AIC = {self.aic:.6g}, BIC = {self.bic:.6g}" + (" — POOR FIT" if self.poor else ""),
+            "  parameters (95 % intervals):",
+            *self._param_lines(),
+        ]
+        if len(self.hypotheses) > 1:
+            lines += ["", "  hypotheses (best AIC first):"]
+            df = self.compare()
+            for _, r in df.iterrows():
+                lr = "" if not np.isfinite(r["lr"]) else f", LR {r['lr']:.3g} (p = {r['lr_p']:.2g})"
+                lines.append(
+                    f"    {r['mu_law']:>10s} / {r['damping']:<14s} k = {int(r['k']):2d}  "
+                    f"χ² = {r['chi2']:.6g}  ΔAIC = {r['delta_aic']:8.2f}  "
+                    f"ΔBIC = {r['delta_bic']:8.2f}{lr}"
+                )
+        if self.notes:
+            lines += ["  notes:"] + [f"    - {n}" for n in self.notes]
+        return "\n".join(lines)
+
+    def summary(self) -> dict:
+        return json_ready(
+            {
+                "records": list(self.records),
+                "model": {"normal": self.model.normal, "tangential": self.model.tangential},
+                "mu_law": self.mu_law,
+                "damping": self.damping,
+                "shared": list(self.shared),
+                "parameters": self._summary_params(),
+                "fit": self._summary_stats(),
+                "compare": self.compare().to_dict(orient="records"),
+                "per_record": self.per_record().to_dict(orient="records"),
+            }
+        )
+
+    def to_dataset(self):
+        """The per-record parameters on dimension ``record`` (xarray), summary in attrs."""
+        import json
+
+        import xarray as xr
+
+        df = self.per_record().set_index("record")
+        ds = xr.Dataset.from_dataframe(df)
+        units = {"speed": "m/s", "v_t0": "m/s", "E_eff": "Pa", "t0": "s", "angle_deg": "deg"}
+        for k in ds.data_vars:
+            ds[k].attrs["units"] = units.get(k, "1")
+        ds.attrs["summary_json"] = json.dumps(self.summary(), allow_nan=False)
+        return ds
+
+
+def _as_list(x, n, what):
+    if isinstance(x, (list, tuple)):
+        if len(x) != n:
+            raise InputError(f"fit_campaign: {len(x)} {what} for {n} records")
+        return list(x)
+    return [x] * n
+
+
+def _starts(fits, datas, design, law):
+    """Starting values of the global parameters from the single-record fits."""
+    init = {}
+    vals = [f.values for f in fits]
+    for i, (f, d) in enumerate(zip(fits, datas, strict=True)):
+        init[f"t0_{i}"] = vals[i]["t0"]
+        init[f"speed_{i}"] = float(d.scene.speed)
+        init[f"E_eff_{i}"] = vals[i]["E_eff"]
+        init[f"kt_scale_{i}"] = (
+            min(max(f.params["kt_scale"].value, 0.05), 20.0) if "kt_scale" in vals[i] else 1.0
+        )
+    init["E_eff"] = float(np.median([v["E_eff"] for v in vals]))
+    init["kt_scale"] = float(np.median([init[f"kt_scale_{i}"] for i in range(len(fits))]))
+    es = np.array([v.get("e", 1.0) for v in vals])
+    init["e"] = float(np.median(es))
+    if law != "hertz":
+        from ..contact import NORMAL_LAWS
+
+        L = NORMAL_LAWS[law]
+        a = []
+        for e, d, v in zip(es, datas, vals, strict=True):
+            K = 4.0 / 3.0 * v["E_eff"] * math.sqrt(d.R_eff)
+            unit = float(L.material_to_param(1.0, K, d.m_eff, float(d.scene.speed) * d.cos_a))
+            a.append(float(L.calibrate(min(e, 0.999999))) / unit if unit else 0.0)
+        init["alpha"] = float(np.median(a))
+    mus = np.array([v.get("mu", math.nan) for v in vals])
+    ok = np.array(
+        [("mu" in f.vary) and f.identifiable.get("mu", False) for f in fits], dtype=bool
+    ) & np.isfinite(mus)
+    if not ok.any():
+        ok = np.isfinite(mus)
+    se = np.array([f.stderr.get("mu", math.nan) for f in fits])
+    w = np.where(np.isfinite(se) & (se > 0), 1.0 / np.maximum(se, 1e-12) ** 2, 1.0)[ok]
+    init["mu"] = float(np.average(mus[ok], weights=w)) if ok.any() else 0.1
+    vt = design.vt0[ok]
+    if ok.sum() >= 2 and np.ptp(vt) > 0:
+        A = np.column_stack([np.ones(ok.sum()), vt]) * np.sqrt(w)[:, None]
+        (a0, b0), *_ = np.linalg.lstsq(A, mus[ok] * np.sqrt(w), rcond=None)
+        init["mu_a"], init["mu_b"] = float(a0), float(b0)
+    else:
+        init["mu_a"], init["mu_b"] = init["mu"], 0.0
+    return init
+
+
+def fit_campaign(
+    records,
+    scenes,
+    *,
+    shared=("E_eff",),
+    mu_law: str = "constant",
+    damping: str = "constant_e",
+    normal: str = "hunt_crossley",
+    tangential: str = "mindlin",
+    **options,
+) -> CampaignFit:
+    """One joint fit of many records with shared parameters (module notes).
+
+    Parameters
+    ----------
+    records : sequence of xarray.Dataset — the records
+    scenes : Scene or sequence of Scene — one per record (or one for all)
+    shared : sequence of str — of ``"E_eff"``, ``"kt_scale"``: one value for every record
+    mu_law : {"constant", "linear_vt0"} — μ, or μ = a + b·v_t0 [b in s/m]
+    damping : {"constant_e", "constant_alpha"} — one e, or one material constant α [s/m]
+    normal, tangential : str — the model, as :func:`pipeline.fit.fit_contact`
+
+    Other Parameters
+    ----------------
+    hypotheses : {"all", "one"}
+        ``"all"`` (default) also fits the other μ laws and damping hypotheses, for
+        :meth:`CampaignFit.compare`; ``"one"`` only the one asked for.
+    history, sensor, noise, margin, n_steps, oversample, window_options
+        As :func:`pipeline.fit.fit_contact` (``sensor`` and ``noise`` may be lists, one per
+        record).
+    n_boot, seed : int
+        Block-bootstrap replicates of the joint fit (default 0: covariance intervals).
+
+    Returns
+    -------
+    CampaignFit
+        The fit of the hypothesis asked for; ``.hypotheses`` holds every one fitted.
+
+    Raises
+    ------
+    InputError
+        Fewer than two records, mismatched lists, unknown laws or hypotheses.
+    """
+    t_begin = time.perf_counter()
+    opts = dict(options)
+    hyps = opts.pop("hypotheses", "all")
+    history = opts.pop("history", "total")
+    sensors = opts.pop("sensor", None)
+    noises = opts.pop("noise", None)
+    margin = float(opts.pop("margin", 0.5))
+    n_steps = int(opts.pop("n_steps", 128))
+    oversample = int(opts.pop("oversample", 4))
+    n_boot = int(opts.pop("n_boot", 0))
+    seed = int(opts.pop("seed", 0))
+    window_options = opts.pop("window_options", None)
+    if opts:
+        raise InputError(f"fit_campaign: unknown option(s) {', '.join(sorted(opts))}")
+    records = list(records)
+    if len(records) < 2:
+        raise InputError("fit_campaign needs at least two records (fit_contact fits one)")
+    if mu_law not in MU_LAWS:
+        raise InputError(f"mu_law {mu_law!r} is unknown; choose one of {MU_LAWS}")
+    if damping not in DAMPING:
+        raise InputError(f"damping {damping!r} is unknown; choose one of {DAMPING}")
+    if hyps not in ("all", "one"):
+        raise InputError(f"hypotheses must be 'all' or 'one', got {hyps!r}")
+    shared = tuple(shared)
+    bad = [s for s in shared if s not in _SHAREABLE]
+    if bad:
+        raise InputError(f"fit_campaign: cannot share {bad}; shareable: {_SHAREABLE}")
+    if normal == "hertz" and damping == "constant_alpha":
+        raise InputError("the elastic 'hertz' law has no damping constant; use a damped law")
+    scenes = _as_list(scenes, len(records), "scenes")
+    if not all(isinstance(s, Scene) for s in scenes):
+        raise InputError("fit_campaign: scenes must be pipeline.Scene objects")
+    sensors = _as_list(sensors, len(records), "sensors")
+    noises = _as_list(noises, len(records), "noise settings")
+    model = ForwardModel(normal, tangential, history, n_steps)
+    datas = [
+        prepare(
+            r,
+            s,
+            channels=model.channels,
+            sensor=se,
+            margin=margin,
+            oversample=oversample,
+            noise=no,
+            window_options=window_options,
+        )
+        for r, s, se, no in zip(records, scenes, sensors, noises, strict=True)
+    ]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", PipelineWarning)
+        singles = [
+            fit_contact(
+                r,
+                s,
+                normal=normal,
+                tangential=tangential,
+                history=history,
+                sensor=se,
+                noise=no,
+                margin=margin,
+                n_steps=n_steps,
+                oversample=oversample,
+                n_boot=0,
+                window_options=window_options,
+            )
+            for r, s, se, no in zip(records, scenes, sensors, noises, strict=True)
+        ]
+    names = tuple(str(r.attrs.get("source", f"record {i}")) for i, r in enumerate(records))
+    todo = [(mu_law, damping)]
+    if hyps == "all":
+        todo += [(m, d) for m in MU_LAWS for d in DAMPING if (m, d) != (mu_law, damping)]
+        if normal == "hertz":
+            todo = [(m, d) for m, d in todo if d == "constant_e"]
+        if tangential == "none":
+            todo = [(m, d) for m, d in todo if m == "constant"]
+    fits = {}
+    for ml, dm in todo:
+        design = _Campaign(datas, normal, shared, ml, dm, tangential)
+        init = _starts(singles, datas, design, normal)
+        vary = [n for n in design.names if not n.startswith("speed_")]
+        if normal == "hertz":
+            vary = [n for n in vary if n not in ("e", "alpha")]
+        kw = run_fit(model, datas, design, init, vary, [], n_boot=n_boot, seed=seed)
+        kw.update(
+            mu_law=ml,
+            damping=dm,
+            shared=shared,
+            records=names,
+            model=model,
+            datas=tuple(datas),
+            cost_s=time.perf_counter() - t_begin,
+        )
+        fits[(ml, dm)] = CampaignFit(**kw)
+    for f in fits.values():
+        f.hypotheses.update(fits)
+    return fits[(mu_law, damping)]

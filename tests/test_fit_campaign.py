@@ -1,0 +1,127 @@
+"""pipeline.fit_campaign: shared parameters and the hypotheses a campaign decides.
+
+Records: pipeline.simulate.impact + pipeline.sensor_model.to_sensor (filter, cross-talk,
+noise, ADC) over angles × speeds, with friction μ = a + b·v_t0 as Garland & Rogers (J. Appl.
+Mech. 76:031015, 2009, doi:10.1115/1.3086432) found, and damping either with one e for all
+speeds or with one material constant α = c/v0 (Hunt & Crossley, J. Appl. Mech. 42:440,
+1975, doi:10.1115/1.3423596), under which e falls as the speed rises (PHYSICS.md §4).
+"""
+
+from __future__ import annotations
+
+import json
+import warnings
+
+import numpy as np
+import pytest
+
+from pipeline import Scene, fit_campaign
+from pipeline.contact import calibrate_hunt_crossley_family, cor_hunt_crossley_alpha
+from pipeline.errors import InputError, PipelineWarning
+from pipeline.sensor_model import to_sensor
+from pipeline.simulate import impact
+
+GR = dict(
+    radius=0.0127,
+    density=7850.0,
+    E=210e9,
+    nu=0.29,
+    target_E=210e9,
+    target_nu=0.29,
+    target_radius=0.0254,
+)
+A, B = 0.10, 0.20  # μ = a + b·v_t0 [b in s/m]
+ALPHA = calibrate_hunt_crossley_family(0.9) / 0.45  # e = 0.9 at v_n0 = 0.45 m/s
+
+
+def _campaign(damping):
+    recs, scenes = [], []
+    for i, (v, ang) in enumerate([(0.3, 20.0), (0.3, 45.0), (0.6, 20.0), (0.6, 45.0)]):
+        s = Scene(**GR, speed=v, angle_deg=ang, e=0.9)
+        s = s.replace(mu=A + B * float(s.v_t0))
+        if damping == "constant_e":
+            ideal = impact(s, normal="hunt_crossley", samples=2001)
+        else:
+            ideal = impact(s, normal="hunt_crossley", samples=2001, alpha=ALPHA)
+        recs.append(to_sensor(ideal, seed=300 + i))
+        scenes.append(s.replace(mu=None, e=None))  # the fit is told neither
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", PipelineWarning)
+        return fit_campaign(recs, scenes, mu_law="linear_vt0", damping="constant_e"), scenes
+
+
+@pytest.fixture(scope="module")
+def constant_e():
+    return _campaign("constant_e")
+
+
+@pytest.fixture(scope="module")
+def constant_alpha():
+    return _campaign("constant_alpha")
+
+
+def test_campaign_finds_the_linear_friction_law(constant_e):
+    """μ = a + b·v_t0 recovered: a and b within 3 standard errors and 2 % of the truth; the
+    nested constant-μ hypothesis is rejected by the likelihood ratio (p < 1e-6) and by AIC."""
+    fit, scenes = constant_e
+    v, se = fit.values, fit.stderr
+    assert abs(v["mu_a"] - A) < 3 * se["mu_a"] and v["mu_a"] == pytest.approx(A, rel=0.02)
+    assert abs(v["mu_b"] - B) < 3 * se["mu_b"] and v["mu_b"] == pytest.approx(B, rel=0.02)
+    assert v["E_eff"] == pytest.approx(scenes[0].E_eff, rel=0.002)  # shared by default
+    df = fit.compare()
+    row = df[(df.mu_law == "linear_vt0") & (df.damping == "constant_e")].iloc[0]
+    assert row["lr_p"] < 1e-6
+    const = df[(df.mu_law == "constant") & (df.damping == "constant_e")].iloc[0]
+    assert const["delta_aic"] > 10
+
+
+def test_campaign_picks_constant_e_when_e_is_constant(constant_e):
+    """One e at both speeds: 'constant_e' has the lowest AIC and BIC, by more than 10 (the
+    hypotheses have equally many parameters, so this is χ²)."""
+    fit, _ = constant_e
+    df = fit.compare()
+    assert (df.iloc[0]["mu_law"], df.iloc[0]["damping"]) == ("linear_vt0", "constant_e")
+    other = df[(df.mu_law == "linear_vt0") & (df.damping == "constant_alpha")].iloc[0]
+    assert other["delta_aic"] > 10 and other["delta_bic"] > 10
+    assert fit.best is fit
+    assert fit.values["e"] == pytest.approx(0.9, abs=0.002)
+
+
+def test_campaign_picks_constant_alpha_when_the_material_constant_is(constant_alpha):
+    """One α at both speeds (e = 0.93 at 0.3 m/s, 0.87 at 0.6 m/s here): 'constant_alpha'
+    wins by more than 10 in AIC, and its α is within 2 % of the truth."""
+    fit, scenes = constant_alpha
+    best = fit.best
+    assert (best.mu_law, best.damping) == ("linear_vt0", "constant_alpha")
+    df = fit.compare()
+    assert df.iloc[1]["delta_aic"] > 10
+    assert best.values["alpha"] == pytest.approx(ALPHA, rel=0.02)
+    e_fast = cor_hunt_crossley_alpha(ALPHA, scenes[2].v_n0)
+    per = best.per_record()
+    assert per.loc[2, "e"] == pytest.approx(e_fast, abs=0.003)
+    assert per.loc[0, "e"] > per.loc[2, "e"]  # e falls as the speed rises
+
+
+def test_campaign_surfaces(constant_e):
+    fit, _ = constant_e
+    json.dumps(fit.summary(), allow_nan=False)
+    ds = fit.to_dataset()
+    assert ds.sizes["record"] == 4 and ds["E_eff"].attrs["units"] == "Pa"
+    assert "hypotheses (best AIC first)" in fit.report()
+    assert set(fit.hypotheses) == {
+        (m, d) for m in ("constant", "linear_vt0") for d in ("constant_e", "constant_alpha")
+    }
+
+
+def test_campaign_refuses_bad_input(constant_e):
+    rec = to_sensor(impact(Scene(**GR, speed=0.6, angle_deg=20, mu=0.15, e=0.9)), seed=1)
+    sc = Scene(**GR, speed=0.6, angle_deg=20)
+    with pytest.raises(InputError, match="at least two records"):
+        fit_campaign([rec], [sc])
+    with pytest.raises(InputError, match="mu_law 'quadratic' is unknown"):
+        fit_campaign([rec, rec], sc, mu_law="quadratic")
+    with pytest.raises(InputError, match="3 scenes for 2 records"):
+        fit_campaign([rec, rec], [sc, sc, sc])
+    with pytest.raises(InputError, match="cannot share"):
+        fit_campaign([rec, rec], sc, shared=("mu",))
+    assert np.isfinite(constant_e[0].aic)
