@@ -391,7 +391,7 @@ def fit_campaign(
     history = opts.pop("history", "total")
     sensors = opts.pop("sensor", None)
     noises = opts.pop("noise", None)
-    margin = float(opts.pop("margin", 0.5))
+    margin = opts.pop("margin", None)
     n_steps = int(opts.pop("n_steps", 128))
     oversample = int(opts.pop("oversample", 4))
     n_boot = int(opts.pop("n_boot", 0))

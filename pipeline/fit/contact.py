@@ -18,7 +18,8 @@ t0       s      instant of first contact on the record's clock
 ======== ====== ==============================================================
 
 Both force channels are fitted jointly, each sample weighted by 1/σ of its channel's noise
-(measured outside the contact), on the contact window widened by ``margin``. lmfit's
+(measured outside the contact), on all the samples with each channel's residual baseline
+fitted alongside (:mod:`pipeline.fit.forward`). lmfit's
 Levenberg–Marquardt drives the minimisation with the Jacobian of
 :mod:`pipeline.fit.engine` (one vectorised model call per iteration); uncertainties come
 from the covariance and a block bootstrap, and parameters the data bound on one side only
@@ -137,10 +138,14 @@ class ContactFit(FitResult):
         return self.problem.design.local(self.theta[None, :])[0]
 
     def predicted(self) -> list:
-        """The fitted model at the fitted samples, one array per channel [N]."""
+        """The fitted model as measured at the fitted samples, one array per channel [N]
+        (with the channel's fitted residual baseline, where one is fitted)."""
         P = self._P()
         sol = self.model.solve([self.data], [P])[0]
-        return [m[0] for m in self.model.predict(self.data, P, sol)]
+        out = []
+        for c, m in zip(self.data.channels, self.model.predict(self.data, P, sol), strict=True):
+            out.append(m[0] + (c.y - m[0]) - c.project(c.y - m[0]))
+        return out
 
     def true_forces(self, t) -> dict:
         """The fitted contact forces (before the sensor) at instants ``t`` [s]: ``Fn``,
@@ -312,7 +317,9 @@ def _moments(t, y):
 def _start(data: RecordData, model: ForwardModel, speed: float) -> dict:
     fn = data.channels[0]
     v0 = speed * data.cos_a
-    area, mean, width = _moments(fn.t, fn.y)
+    w = data.window
+    inside = (fn.t >= w.t_start) & (fn.t <= w.t_end)
+    area, mean, width = _moments(fn.t[inside], fn.y[inside])
     e0 = 1.0 if model.normal == "hertz" else float(np.clip(area / (data.m_eff * v0) - 1, 0.2, 0.99))
     if model.normal is None:  # rigid: impulses at t0
         return {
@@ -387,8 +394,11 @@ def fit_contact(
     noise : mapping
         σ per channel [N], instead of the noise measured outside the contact.
     margin : float
-        Samples kept on each side of the contact window [fraction of its duration]
-        (default 0.5).
+        Samples kept on each side of the contact window [fraction of its duration];
+        default: every sample.
+    baseline : bool
+        Fit each channel's residual offset and drift with the contact (default for sensor
+        records; :mod:`pipeline.fit.forward`).
     n_steps : int
         Steps of the tabulated pulse per contact (default 128).
     oversample : int
@@ -451,7 +461,8 @@ def fit_model(record, scene, model, vary, *, t_begin=None, **options) -> Contact
     opts = dict(options)
     sensor = opts.pop("sensor", None)
     noise = opts.pop("noise", None)
-    margin = float(opts.pop("margin", 0.5))
+    margin = opts.pop("margin", None)
+    baseline = opts.pop("baseline", None)
     oversample = int(opts.pop("oversample", 4))
     n_boot = int(opts.pop("n_boot", 200))
     seed = int(opts.pop("seed", 0))
@@ -472,6 +483,7 @@ def fit_model(record, scene, model, vary, *, t_begin=None, **options) -> Contact
         oversample=oversample,
         noise=noise,
         window_options=window_options,
+        baseline=baseline,
     )
     notes = list(data.notes)
     design = _Single(data, normal, use_alpha)

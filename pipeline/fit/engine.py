@@ -171,6 +171,7 @@ def gauss_newton_many(
     iters=4,
     freeze=None,
     jacobian=None,
+    r0=None,
     tol=1e-4,
 ):
     """Refit B parameter vectors at once (Gauss–Newton, one model call per iteration).
@@ -189,7 +190,10 @@ def gauss_newton_many(
         (the fit's, for replicates that start at its optimum): each iteration then costs one
         residual evaluation without derivatives (simplified Gauss–Newton, which converges
         to the same optimum); None: each row's own Jacobian, recomputed every iteration
-    tol : float — stop when every step is below ``tol`` of the parameter's scale
+    r0 : numpy.ndarray, shape (N,), optional — the residuals at ``Theta0`` when every row
+        starts at the same point (the fit's optimum): saves the first model call
+    tol : float — stop when every step is below ``tol`` of the parameter's scale (with
+        ``jacobian``: of its standard error from that Jacobian)
 
     Returns
     -------
@@ -205,7 +209,9 @@ def gauss_newton_many(
     scale = np.maximum(np.abs(Theta[0, v]), problem.design.scale[v])
     if jacobian is not None:
         K = _pseudo_inverse(np.asarray(jacobian)[:, free])  # (n_free, N)
-        r = problem.evaluate(Theta)[0] + extra
+        scale = np.ones(v.size)
+        scale[free] = np.sqrt(np.sum(K * K, axis=1))  # standard errors at unit noise
+        r = (problem.evaluate(Theta)[0] if r0 is None else np.asarray(r0)[None, :]) + extra
     else:
         r, J = problem.evaluate(Theta, jacobian=True)
         r = r + extra

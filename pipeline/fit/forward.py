@@ -20,13 +20,28 @@ the nodes), so the 128 default steps per contact keep the interpolation error ne
 of the peak. All columns of all records are solved together: one table lookup and one
 tangential solve per call, a few numpy operations per record after that.
 
-The data a fit uses (:func:`prepare`): the samples of each force channel within the contact
-window of :func:`pipeline.window.find_contact` widened by ``margin`` (a fraction of the
-contact duration) on each side, less the window's baseline; saturated samples left out;
-weights 1/σ from each channel's noise measured outside the contact
+The data a fit uses (:func:`prepare`): every sample of each force channel (or those of the
+contact window of :func:`pipeline.window.find_contact` widened by ``margin``, a fraction of
+the contact duration, on each side), less the window's baseline; saturated samples left
+out; weights 1/σ from each channel's noise measured outside the contact
 (:attr:`pipeline.window.ContactWindow.noise`, floored at the ADC step's q/√12), or, where a
 record has no trigger margins (digitised, simulated), from
 :func:`pipeline.analysis.noise_level`.
+
+**The baseline is fitted with the contact.** The window's baseline (offset and drift of each
+channel, from the samples outside the contact) is an estimate: its error, ~σ/√n_outside,
+is common to every sample and shifts the integral of the pulse, hence e (at 0.4 % noise,
+as much as the noise does through the pulse itself). Ignoring it makes the intervals of e
+too narrow. So a sensor record's fit carries each channel's residual offset and drift
+(a + b·(t − t̄)) as nuisance parameters, eliminated exactly by projection (they enter
+linearly: the residuals and the Jacobian are projected onto the complement of
+{1, t − t̄} per channel; Golub & Pereyra 1973), so the covariance and the bootstrap are
+those of the contact parameters with the baseline refitted. The fit then uses all the
+samples, the trigger margins included.
+
+References
+----------
+G. H. Golub, V. Pereyra, SIAM J. Numer. Anal. 10:413 (1973), doi:10.1137/0710036.
 """
 
 from __future__ import annotations
@@ -44,7 +59,15 @@ from .pulse import E_MIN, normal_pulse, shape_of
 from .sensor import SensorSpec, sensor_spec
 from .tangential import HISTORY_RULES, TANGENTIAL_MODELS, tangential_response
 
-__all__ = ["PARAMS", "UNITS", "Channel", "RecordData", "ForwardModel", "prepare"]
+__all__ = [
+    "PARAMS",
+    "UNITS",
+    "Channel",
+    "RecordData",
+    "ForwardModel",
+    "prepare",
+    "weighted_residuals",
+]
 
 #: The local parameters of one record's model, in column order.
 PARAMS = ("E_eff", "e", "mu", "kt_scale", "speed", "t0")
@@ -72,12 +95,21 @@ class Channel:
     t : numpy.ndarray — sample instants [s]
     y : numpy.ndarray — measured force less the baseline [N]
     sigma : float — noise standard deviation [N] (the weights are 1/σ)
+    basis : numpy.ndarray or None — orthonormal basis (n, 2) of {1, t − t̄}: the residual
+        baseline fitted with the contact (module notes); None: no baseline fitted
     """
 
     name: str
     t: np.ndarray
     y: np.ndarray
     sigma: float
+    basis: np.ndarray | None = None
+
+    def project(self, r):
+        """``r`` (…, n) less its least-squares baseline a + b·(t − t̄)."""
+        if self.basis is None:
+            return r
+        return r - (r @ self.basis) @ self.basis.T
 
 
 @dataclass(frozen=True, eq=False)
@@ -136,9 +168,14 @@ class RecordData:
     def n_data(self) -> int:
         return sum(c.t.size for c in self.channels)
 
+    @property
+    def n_nuisance(self) -> int:
+        """Baseline parameters fitted with the contact (two per channel where fitted)."""
+        return sum(0 if c.basis is None else c.basis.shape[1] for c in self.channels)
+
     def y(self) -> np.ndarray:
-        """The weighted data, channels concatenated (y/σ)."""
-        return np.concatenate([c.y / c.sigma for c in self.channels])
+        """The weighted data, channels concatenated (y/σ, each less its fitted baseline)."""
+        return np.concatenate([c.project(c.y / c.sigma) for c in self.channels])
 
 
 def _noise(win, name, t, f):
@@ -165,10 +202,11 @@ def prepare(
     *,
     channels=("Fn", "Ft"),
     sensor=None,
-    margin: float = 0.5,
+    margin: float | None = None,
     oversample: int = 4,
     noise=None,
     window_options=None,
+    baseline: bool | None = None,
 ) -> RecordData:
     """The samples, weights and sensor model a fit of ``record`` uses (module notes).
 
@@ -178,11 +216,14 @@ def prepare(
     scene : Scene — needs ``E`` and ``nu`` (for G*/E* and a starting E*)
     channels : tuple of str — the force channels fitted
     sensor : SensorSpec or mapping, optional — see :func:`pipeline.fit.sensor.sensor_spec`
-    margin : float — samples kept on each side of the contact window [fraction of its
-        duration]
+    margin : float, optional — samples kept on each side of the contact window [fraction
+        of its duration]; None (default): every sample
     oversample : int — fine-grid factor of the filter model
     noise : mapping, optional — σ per channel [N], overriding the measured noise
     window_options : dict, optional — passed to :func:`pipeline.window.find_contact`
+    baseline : bool, optional — fit each channel's residual offset and drift with the
+        contact (module notes); default: for sensor records (whose baseline the window
+        estimated from trigger margins)
 
     Returns
     -------
@@ -198,13 +239,18 @@ def prepare(
                 "with only Fn",
                 path=record.attrs.get("source"),
             )
-    if not (margin >= 0):
+    if margin is not None and not (margin >= 0):
         raise InputError(f"margin must be ≥ 0 (a fraction of the contact duration), got {margin}")
     win = find_contact(record, **(window_options or {}))
     spec = sensor_spec(record, sensor)
     notes = list(spec.notes)
     dur = win.duration
-    lo, hi = win.t_start - margin * dur, win.t_end + margin * dur
+    if margin is None:
+        lo, hi = -math.inf, math.inf
+    else:
+        lo, hi = win.t_start - margin * dur, win.t_end + margin * dur
+    if baseline is None:
+        baseline = win.kind == "sensor"
     half = None if not math.isfinite(spec.full_scale) else 0.5 * spec.full_scale
     chans = []
     uniform_t = None
@@ -233,7 +279,11 @@ def prepare(
                 notes.append(note)
         floor = max(spec.quantum / math.sqrt(12.0), 1e-9 * float(np.max(np.abs(yc))), 1e-300)
         sigma = max(sigma, floor)
-        chans.append(Channel(name, tc, yc, sigma))
+        basis = None
+        if baseline:
+            A = np.column_stack([np.ones(tc.size), (tc - tc.mean()) / max(np.ptp(tc), 1e-300)])
+            basis = np.linalg.qr(A)[0]
+        chans.append(Channel(name, tc, yc, sigma, basis))
         uniform_t = tc if uniform_t is None else uniform_t
     fine, sos, os_ = None, None, 1
     if spec.filtered:
@@ -262,6 +312,17 @@ def prepare(
     )
 
 
+def weighted_residuals(data: RecordData, pred, derivative=False):
+    """(y − model)/σ of every channel, concatenated along the last axis, each less its
+    fitted baseline (:meth:`Channel.project`); with ``derivative`` the model's derivatives
+    ``pred`` give those of the residuals, −(∂model)/σ, projected alike."""
+    parts = []
+    for c, m in zip(data.channels, pred, strict=True):
+        r = -m / c.sigma if derivative else (c.y - m) / c.sigma
+        parts.append(c.project(r))
+    return np.concatenate(parts, axis=-1)
+
+
 @dataclass(frozen=True)
 class Solution:
     """Dimensionless solutions of the unique problems among the columns (internal)."""
@@ -280,9 +341,20 @@ class ForwardModel:
     tangential : {"mindlin", "coulomb", "none"}
     history : {"total", "incremental"}
     n_steps : int — steps of the tabulated pulse per contact duration
+    solver : {"piecewise", "rk4"}
+        The tangential solver: :func:`pipeline.fit.tangential.tangential_response`
+        (default), or the simulator's batch path :func:`pipeline.simulate.tangential_history`
+        (fixed-step RK4, n_steps/2 steps; one Python iteration per step, kept to compare).
     """
 
-    def __init__(self, normal="hunt_crossley", tangential="mindlin", history="total", n_steps=128):
+    def __init__(
+        self,
+        normal="hunt_crossley",
+        tangential="mindlin",
+        history="total",
+        n_steps=128,
+        solver="piecewise",
+    ):
         shape_of(normal)  # InputError naming the laws
         if tangential not in TANGENTIAL_MODELS:
             raise InputError(
@@ -292,8 +364,11 @@ class ForwardModel:
             raise InputError(
                 f"unknown Mindlin history rule {history!r}; choose one of {HISTORY_RULES}"
             )
+        if solver not in ("piecewise", "rk4"):
+            raise InputError(f"solver must be 'piecewise' or 'rk4', got {solver!r}")
         self.normal, self.tangential, self.history = normal, tangential, history
         self.n_steps = int(n_steps)
+        self.solver = solver
 
     @property
     def channels(self) -> tuple:
@@ -346,7 +421,9 @@ class ForwardModel:
             raise InputError(f"restitution outside [{E_MIN}, 1]: {e[(e < E_MIN) | (e > 1)]}")
         pulse = normal_pulse(self.normal, e, self.n_steps)
         tang = None
-        if self.tangential != "none":
+        if self.tangential != "none" and self.solver == "rk4":
+            tang = _rk4_response(pulse, uniq, self.tangential, self.history)
+        elif self.tangential != "none":
             tang = tangential_response(
                 pulse,
                 uniq[:, 3],
@@ -383,12 +460,14 @@ class ForwardModel:
             3 * t2 - 2 * t3,
             (t3 - t2) * h,
         )
-        series = [(pul.f, pul.df)]
+        series = [pul.f, pul.df]
         if need_t and sol.tang is not None:
-            series.append((sol.tang.ft, sol.tang.dft))
+            series += [sol.tang.ft, sol.tang.dft]
+        table = np.stack(series, axis=-1)  # (U, J, 2 or 4): one gather per side of a step
+        a, b = table[kk, j], table[kk, j + 1]
         out, rates = [], []
-        for y, dy in series:
-            y0, y1, d0, d1 = y[kk, j], y[kk, j + 1], dy[kk, j], dy[kk, j + 1]
+        for i in range(0, table.shape[-1], 2):
+            y0, d0, y1, d1 = a[..., i], a[..., i + 1], b[..., i], b[..., i + 1]
             out.append(np.where(inside, h00 * y0 + h10 * d0 + h01 * y1 + h11 * d1, 0.0))
             if deriv:
                 g = (6 * t2 - 6 * th) * (y0 - y1) / h + (3 * t2 - 4 * th + 1) * d0
@@ -441,7 +520,8 @@ class ForwardModel:
         from scipy.signal import sosfilt
 
         # the forces vanish outside the contact: evaluate from the earliest onset to the
-        # latest end of any column, filter from there on (the filter rings past the end)
+        # latest end of any column, and filter on until the filter's ringing has decayed
+        # below 1e-16 (after that the record is the model's exact zero)
         ds, T, Fs, v0 = self.scales(data, P)
         t0 = P[:, _I["t0"]]
         tc = sol.pulse.tau_c[sol.index] * T
@@ -449,17 +529,20 @@ class ForwardModel:
         lo = max(int(np.searchsorted(fine, t0.min())) - 1, 0)
         hi = min(int(np.searchsorted(fine, (t0 + tc).max())) + 1, fine.size)
         lo -= lo % data.oversample  # start on a sample instant
+        step = fine[1] - fine[0] if fine.size > 1 else 1.0
+        end = min(fine.size, hi + int(math.ceil(data.sensor.ring_time() / step)) + 1)
         m, d = self._forces(data, P, sol, fine[lo:hi], names, nderiv)
         ncol = P.shape[0]
         rows = [x for x in m]
         if nderiv:
             rows += [x.reshape(-1, x.shape[-1]) for x in d]
         stack = np.concatenate(rows, axis=0)
-        full = np.zeros((stack.shape[0], fine.size - lo))
+        full = np.zeros((stack.shape[0], end - lo))
         full[:, : hi - lo] = stack
         filt = sosfilt(data.sos, full, axis=-1)[:, :: data.oversample]
         out = np.zeros((filt.shape[0], data.channels[0].t.size))
-        out[:, lo // data.oversample :] = filt
+        k0 = lo // data.oversample
+        out[:, k0 : k0 + filt.shape[1]] = filt
         pred = [out[i * ncol : (i + 1) * ncol] for i in range(len(names))]
         if not nderiv:
             return pred
@@ -489,17 +572,9 @@ class ForwardModel:
             pred = self.predict(d, P, s, nd)
             if nd:
                 pred, der = pred
-                ders.append(
-                    np.concatenate(
-                        [-x / c.sigma for c, x in zip(d.channels, der, strict=True)], axis=-1
-                    )
-                )
-            out.append(
-                np.concatenate(
-                    [(c.y[None, :] - m) / c.sigma for c, m in zip(d.channels, pred, strict=True)],
-                    axis=1,
-                )
-            )
+            out.append(weighted_residuals(d, pred))
+            if nd:
+                ders.append(weighted_residuals(d, der, derivative=True))
         return (out, sols, ders) if nderiv is not None else (out, sols)
 
     # -------------------------------------------------------------- physics
@@ -545,3 +620,31 @@ class ForwardModel:
             "Ft": None if ft is None else ft[0] * Fs[0],
             "Pn": None,
         }
+
+
+def _rk4_response(pulse, uniq, tangential, history):
+    """The tangential response by :func:`pipeline.simulate.tangential_history` (RK4 over
+    n_steps/2 steps of each pulse, the nodes as its half steps), on the pulse's nodes."""
+    from ..simulate import tangential_history
+    from .tangential import TangentialResponse
+
+    th = tangential_history(
+        np.sqrt(pulse.x).T,
+        pulse.f.T,
+        2.0 * pulse.tau_c / pulse.n_steps,  # one step per two nodes, per pulse
+        uniq[:, 3],
+        uniq[:, 4],
+        uniq[:, 1],
+        uniq[:, 2],
+        tangential=tangential,
+        history=history,
+    )
+    J = pulse.n_steps + 1
+    p, ft = np.empty((pulse.e.size, J)), np.empty((pulse.e.size, J))
+    p[:, ::2], ft[:, ::2] = th.p.T, th.ft.T
+    p[:, 1::2] = 0.5 * (p[:, :-1:2] + p[:, 2::2])
+    ft[:, 1::2] = 0.5 * (ft[:, :-1:2] + ft[:, 2::2])
+    dft = np.gradient(ft, axis=1) / pulse.h
+    stops = np.any(uniq[:, 3, None] - uniq[:, 4, None] * p <= 0, axis=1)
+    n = pulse.e.size
+    return TangentialResponse(p, ft, dft, stops, np.full(n, np.nan), np.zeros(n, int))

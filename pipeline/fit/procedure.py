@@ -98,13 +98,14 @@ def run_fit(model, datas, design, init, vary, notes, *, n_boot=0, seed=0) -> dic
         return problem.jacobian(theta_of(p)).copy()  # lmfit scales it in place
 
     mini = lmfit.Minimizer(fcn, params, nan_policy="raise")
-    res = mini.leastsq(Dfun=dfun, col_deriv=0, ftol=1e-10, xtol=1e-10, max_nfev=2000)
+    res = mini.leastsq(Dfun=dfun, col_deriv=0, ftol=1e-8, xtol=1e-8, max_nfev=2000)
     theta = theta_of(res.params)
     r, J = problem.residual(theta), problem.jacobian(theta)
     chi2 = float(r @ r)
     n = problem.n_data
     k = int(sum(varied))
-    redchi = chi2 / max(n - k, 1)
+    nuisance = sum(d.n_nuisance for d in datas)
+    redchi = chi2 / max(n - k - nuisance, 1)
     cov = covariance(J, redchi)
     vidx = np.flatnonzero(varied)
     # ---- one-sided parameters (μ, kt_scale): is χ² flat up to 30× the fitted value?
@@ -127,7 +128,7 @@ def run_fit(model, datas, design, init, vary, notes, *, n_boot=0, seed=0) -> dic
                 par.correl[names[ii]] = cov[j, jj] / math.sqrt(cov[j, j] * cov[jj, jj])
     # ---- poor fit?
     poor_reasons = []
-    lim = 1.0 + 5.0 * math.sqrt(2.0 / max(n - k, 1))
+    lim = 1.0 + 5.0 * math.sqrt(2.0 / max(n - k - nuisance, 1))
     if redchi > lim:
         poor_reasons.append(f"χ²_ν = {redchi:.3g} > {lim:.3g}")
     start = 0
@@ -155,6 +156,7 @@ def run_fit(model, datas, design, init, vary, notes, *, n_boot=0, seed=0) -> dic
         cov=cov,
         chi2=chi2,
         n_data=n,
+        n_nuisance=nuisance,
         params=res.params,
         result=res,
         boot=boot,

@@ -41,6 +41,7 @@ class FitResult:
         :mod:`pipeline.fit.uncertainty`)
     chi2 : float — Σ((y − model)/σ)² at the optimum
     n_data : int — number of samples fitted
+    n_nuisance : int — baseline parameters fitted alongside (:mod:`pipeline.fit.forward`)
     params : lmfit.Parameters — the final parameters (stderr and correlations from ``cov``)
     result : lmfit.MinimizerResult
     boot : numpy.ndarray or None — bootstrap refits, shape (n_boot, len(names))
@@ -67,6 +68,7 @@ class FitResult:
     notes: tuple = ()
     poor: bool = False
     cost_s: float = math.nan
+    n_nuisance: int = 0
 
     # ------------------------------------------------------------ numbers
     @property
@@ -106,18 +108,18 @@ class FitResult:
 
     @property
     def redchi(self) -> float:
-        """χ²/(N − k): about 1 when the model fits to the measured noise."""
-        return self.chi2 / max(self.n_data - self.nvarys, 1)
+        """χ²/(N − k − k_baseline): about 1 when the model fits to the measured noise."""
+        return self.chi2 / max(self.n_data - self.nvarys - self.n_nuisance, 1)
 
     @property
     def aic(self) -> float:
-        """χ² + 2k (module notes)."""
-        return self.chi2 + 2 * self.nvarys
+        """χ² + 2k (module notes; k counts the fitted baseline too)."""
+        return self.chi2 + 2 * (self.nvarys + self.n_nuisance)
 
     @property
     def bic(self) -> float:
-        """χ² + k·ln N (module notes)."""
-        return self.chi2 + self.nvarys * math.log(max(self.n_data, 1))
+        """χ² + k·ln N (module notes; k counts the fitted baseline too)."""
+        return self.chi2 + (self.nvarys + self.n_nuisance) * math.log(max(self.n_data, 1))
 
     def ci(self, level: float = 0.95, method: str = "auto") -> dict:
         """Confidence intervals {name: (lo, hi)} of the fitted parameters.

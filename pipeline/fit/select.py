@@ -48,7 +48,7 @@ import numpy as np
 from .._json import json_ready
 from ..errors import InputError, PipelineWarning
 from .contact import DEFAULT_VARY, ContactFit, fit_model
-from .forward import _I, ForwardModel, RecordData
+from .forward import _I, ForwardModel, RecordData, weighted_residuals
 
 __all__ = ["ModelSelection", "select_model", "LADDER", "DEFAULT_CANDIDATES", "RigidModel"]
 
@@ -133,15 +133,8 @@ class RigidModel:
             pred = self.predict(d, P, None, nd)
             if nd:
                 pred, der = pred
-                ders.append(
-                    np.concatenate([-x / c.sigma for c, x in zip(d.channels, der, strict=True)], -1)
-                )
-            out.append(
-                np.concatenate(
-                    [(c.y[None, :] - m) / c.sigma for c, m in zip(d.channels, pred, strict=True)],
-                    axis=1,
-                )
-            )
+                ders.append(weighted_residuals(d, der, derivative=True))
+            out.append(weighted_residuals(d, pred))
         sols = [None] * len(Ps)
         return (out, sols, ders) if nderiv is not None else (out, sols)
 

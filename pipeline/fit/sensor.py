@@ -32,6 +32,7 @@ fit's notes say so.
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -89,11 +90,17 @@ class SensorSpec:
         poles = np.exp(1j * np.pi * (2 * k + n - 1) / (2 * n))
         return float(-np.sum(poles.real) / (2 * np.pi * self.bandwidth))
 
+    def ring_time(self) -> float:
+        """Time for the filter's impulse response to decay below 1e-16 of its scale [s]:
+        37 time constants of its slowest pole, ω_c·sin(π/(2n)) (0 without a filter)."""
+        if not self.filtered:
+            return 0.0
+        slowest = 2 * np.pi * self.bandwidth * math.sin(math.pi / (2 * self.filter_order))
+        return 37.0 / slowest
+
     def sos(self, dt: float) -> np.ndarray:
         """Second-order sections of the filter discretised at step ``dt`` [s] (FOH)."""
-        from ..sensor_model import _butterworth_foh
-
-        return _butterworth_foh(self.filter_order, self.bandwidth, dt)
+        return _sos(self.filter_order, float(self.bandwidth), float(dt)).copy()
 
     def summary(self) -> dict:
         return {
@@ -105,6 +112,13 @@ class SensorSpec:
             "source": self.source,
             "notes": list(self.notes),
         }
+
+
+@functools.lru_cache(maxsize=64)
+def _sos(order, bandwidth, dt):
+    from ..sensor_model import _butterworth_foh
+
+    return _butterworth_foh(order, bandwidth, dt)
 
 
 def _num(value, name, src):

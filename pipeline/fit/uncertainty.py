@@ -143,7 +143,7 @@ def block_bootstrap(problem: Problem, theta, r, J, *, n_boot, seed, lower, upper
     """
     rng = np.random.default_rng(seed)
     n = r.size
-    p = problem.vary.size
+    p = problem.vary.size + sum(d.n_nuisance for d in problem.datas)
     inflate = math.sqrt(n / max(n - p, 1))
     new_r = np.empty((n_boot, n))
     blocks = {}
@@ -159,7 +159,7 @@ def block_bootstrap(problem: Problem, theta, r, J, *, n_boot, seed, lower, upper
     dy = inflate * new_r - r[None, :]
     Theta0 = np.repeat(np.asarray(theta, float)[None, :], n_boot, axis=0)
     Theta, _ = gauss_newton_many(
-        problem, Theta0, dy, lower=lower, upper=upper, iters=iters, jacobian=J
+        problem, Theta0, dy, lower=lower, upper=upper, iters=iters, jacobian=J, r0=r, tol=0.01
     )
     return Theta, blocks
 
