@@ -618,7 +618,6 @@ class ForwardModel:
         return {
             "Fn": fn[0] * Fs[0],
             "Ft": None if ft is None else ft[0] * Fs[0],
-            "Pn": None,
         }
 
 

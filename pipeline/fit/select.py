@@ -157,7 +157,7 @@ class RigidModel:
 
     def curves(self, data, P, sol, t):
         z = np.zeros(np.asarray(t).shape)
-        return {"Fn": z, "Ft": z, "Pn": None}
+        return {"Fn": z, "Ft": z}
 
 
 def _rank(c, order):
