@@ -577,7 +577,10 @@ def fitted_parameters(paths, *, n_boot: int = 200, seed: int = 0) -> list:
 
     out = []
     for path in paths:
-        side = read_sidecar(path)
+        try:
+            side = read_sidecar(path)
+        except (InputError, OSError):
+            continue  # the record's own entry reports its sidecar
         model = side.get("model")
         if not isinstance(model, dict) or "scene" not in side:
             continue
@@ -595,9 +598,9 @@ def fitted_parameters(paths, *, n_boot: int = 200, seed: int = 0) -> list:
                 n_boot=n_boot,
                 seed=seed,
             )
-        except (InputError, OSError) as exc:
+        except Exception as exc:  # one record's fit never stops the report
             log.warning("%s: contact fit failed: %s", Path(path).name, exc)
-            out.append({"file": Path(path).name, "error": str(exc)})
+            out.append({"file": Path(path).name, "error": f"{type(exc).__name__}: {exc}"})
             continue
         ci = fit.ci(0.95)
         params = {}

@@ -158,12 +158,12 @@ def test_recovery_on_a_noisy_sensor_record(noisy):
 
 
 def test_noise_free_record_is_recovered_to_the_model_error():
-    """No noise and no ADC (filter and cross-talk kept): what is left is the forward
-    model's own error against the adaptive simulator and the sensor model. E*, e, μ,
-    kt_scale within 1e-4 (relative), t0 within 1 ns."""
+    """Noise 1 mN (1e-6 of F_max) and no ADC (filter and cross-talk kept): what is left is
+    the forward model's own error against the adaptive simulator and the sensor model. E*,
+    e, μ, kt_scale within 1e-4 (relative), t0 within 1 ns."""
     sc = gr(angle_deg=15.0, mu=0.13)
-    rec = to_sensor(impact(sc, samples=2001), noise=0.0, bits=None, seed=3)
-    fit = quiet(fit_contact, rec, sc, n_boot=0, noise={"Fn": 1.0, "Ft": 1.0})
+    rec = to_sensor(impact(sc, samples=2001), noise=1e-3, bits=None, seed=3)
+    fit = quiet(fit_contact, rec, sc, n_boot=0)
     v = fit.values
     assert v["E_eff"] == pytest.approx(sc.E_eff, rel=1e-4)
     assert v["e"] == pytest.approx(0.9, abs=1e-4)

@@ -5,13 +5,17 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from ._common import log_warnings, read_scene
+from ._common import EXIT_CODES, add_record_options, log_warnings, read_record, read_scene
 
 
 def register(sub) -> None:
     p = sub.add_parser(
         "fit",
         help="fit the contact parameters (E*, e, μ, kt_scale) of one record; prints a report",
+        description="Fit the contact parameters of one record (pipeline.fit_contact, or "
+        "pipeline.select_model with --model auto) and print the report. The record and its "
+        "scene are read as for 'pipeline analyse'.",
+        epilog=EXIT_CODES,
     )
     p.add_argument("file", type=Path)
     p.add_argument("--scene", type=Path, help="JSON file of Scene fields (SI units)")
@@ -31,6 +35,7 @@ def register(sub) -> None:
     p.add_argument("--seed", default=0, type=int)
     p.add_argument("--out", type=Path, help="write fit.json, fit.txt and fit.png there")
     p.add_argument("--json", action="store_true", help="print the strict-JSON summary")
+    add_record_options(p)
     p.set_defaults(func=run)
 
 
@@ -51,12 +56,11 @@ def run(args) -> int:
     from .._atomic import atomic_write_text
     from ..errors import InputError
     from ..fit import fit_contact, select_model
-    from ..io import load
 
-    scene = read_scene(args.file, args.scene)
+    record = read_record(args.file, args)
+    scene, _ = read_scene(args.file, args.scene, record)
     sensor = _sensor(args)
     with log_warnings():
-        record = load(args.file)
         if args.model == "auto":
             sel = select_model(record, scene, sensor=sensor, n_boot=args.boot, seed=args.seed)
             fit = sel.fit

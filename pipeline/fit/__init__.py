@@ -8,7 +8,9 @@ uncertainties a paper can quote.
 - :func:`fit_campaign` (:mod:`.campaign`) — many records, shared parameters and the
   hypotheses μ = a + b·v_t0 and constant e or constant α → :class:`CampaignFit`;
 - :func:`select_model` (:mod:`.select`) — the cheapest model the record needs →
-  :class:`ModelSelection`.
+  :class:`ModelSelection`;
+- :func:`fit_outcomes` (:mod:`.outcomes`) — rebound kinematics (e_t, ω, rebound angle
+  against incidence) instead of forces → :class:`OutcomeFit`.
 
 Underneath: :mod:`.pulse` (the normal impact as a master curve tabulated once),
 :mod:`.tangential` (the tangential contact on it, solved piecewise), :mod:`.sensor` (filter,
@@ -37,6 +39,7 @@ from ..smooth import (  # noqa: F401  (backward-compatible names of pipeline.smo
 )
 from .campaign import CampaignFit, fit_campaign
 from .contact import ContactFit, fit_contact
+from .outcomes import OutcomeFit, fit_outcomes
 from .select import ModelSelection, select_model
 from .sensor import CrossTalkWarning, SensorSpec
 
@@ -49,4 +52,6 @@ __all__ = [
     "fit_campaign",
     "ModelSelection",
     "select_model",
+    "OutcomeFit",
+    "fit_outcomes",
 ]

@@ -197,14 +197,39 @@ def _from_mapping(m: Mapping, src: str) -> SensorSpec:
     return SensorSpec(bw, order, q, fs, C, src, tuple(notes))
 
 
-def _meta_float(attrs, *keys):
-    for k in keys:
-        if k in attrs:
-            try:
-                return float(attrs[k])
-            except (TypeError, ValueError):
-                return None
-    return None
+_FORCE_UNITS = {"": 1.0, "n": 1.0, "kn": 1e3, "mn": 1e-3}
+
+
+def _from_metadata(attrs) -> dict:
+    """Sensor fields stated in a record's ``# key: value`` metadata (``meta_*`` attributes),
+    units in the value (``5000 N``) or, as older readers kept them, in the key
+    (``meta_full_scale_n``)."""
+    from ..io.metadata import parse_quantity, stated_bandwidth
+
+    out = {}
+    bw = stated_bandwidth(attrs)
+    if bw is not None:
+        out["bandwidth"] = bw[0]
+    for key, text in attrs.items():
+        k = str(key)
+        if not k.startswith("meta_"):
+            continue
+        squashed = k.removeprefix("meta_").replace("_", "").replace(" ", "").lower()
+        q = parse_quantity(text if isinstance(text, str) else str(text))
+        if q is None:
+            continue
+        value, unit = q
+        if squashed in ("filterorder", "order"):
+            out["filter_order"] = value
+        elif squashed in ("adcbits", "bits"):
+            out["bits"] = value
+        elif squashed.startswith("fullscale"):
+            unit = unit or squashed.removeprefix("fullscale")
+            if unit.lower() in _FORCE_UNITS:
+                out["full_scale"] = value * _FORCE_UNITS[unit.lower()]
+        elif squashed == "bandwidthhz" and "bandwidth" not in out:  # unit kept in the key
+            out["bandwidth"] = value
+    return out
 
 
 def sensor_spec(record, sensor=None) -> SensorSpec:
@@ -230,28 +255,15 @@ def sensor_spec(record, sensor=None) -> SensorSpec:
         )
     else:
         attrs = record.attrs
-        fields = {k.removeprefix("sensor_"): v for k, v in attrs.items() if k.startswith("sensor_")}
-        if "bandwidth" in fields:
-            keep = {k: v for k, v in fields.items() if k in ("bandwidth", "filter_order")}
-            keep.update({k: v for k, v in fields.items() if k in ("quantum", "full_scale", "bits")})
-            if "crosstalk_matrix" in fields:
-                keep["crosstalk_matrix"] = fields["crosstalk_matrix"]
-            spec = _from_mapping(keep, "the record's sensor_* attributes")
+        fields = _from_metadata(attrs)
+        stated = {k.removeprefix("sensor_"): v for k, v in attrs.items() if k.startswith("sensor_")}
+        keep = ("bandwidth", "filter_order", "quantum", "full_scale", "bits", "crosstalk_matrix")
+        fields.update({k: v for k, v in stated.items() if k in keep})
+        if "bandwidth" in stated and "filter_order" in stated:
+            src = "the record's sensor_* attributes"
         else:
-            meta = {}
-            bw = _meta_float(attrs, "meta_bandwidth_hz", "meta_bandwidth")
-            if bw is not None:
-                meta["bandwidth"] = bw
-            order = _meta_float(attrs, "meta_filter_order")
-            if order is not None:
-                meta["filter_order"] = order
-            bits = _meta_float(attrs, "meta_adc_bits", "meta_bits")
-            fs = _meta_float(attrs, "meta_full_scale_n", "meta_full_scale")
-            if bits is not None:
-                meta["bits"] = bits
-            if fs is not None:
-                meta["full_scale"] = fs
-            spec = _from_mapping(meta, "the record's metadata") if meta else SensorSpec()
+            src = "the record's metadata"
+        spec = _from_mapping(fields, src) if fields else SensorSpec()
     if any(k.startswith("decouple") for k in record.attrs) and spec.crosstalk is not None:
         # the loader already applied a decoupling matrix: nothing left to mix
         spec = SensorSpec(
