@@ -20,8 +20,9 @@ scene of the seed's 15° record (25.4 mm steel ball on a 25.4 mm steel cap, 0.6 
 
    Both fitters vary E*, e, μ and t0 (``kt_scale`` fixed at its true 1: the simulator has
    no such option). Errors: on a noise-free sensor record (the method's own error, hollow
-   markers; 1 mN of noise, ~1e-6 of F_max) and the RMS error over ``N_REP`` noisy
-   replicates at 0.4 % of F_max (filled).
+   markers; 1 mN of noise, ~1e-6 of F_max) and the RMS error over the same ``N_REP``
+   noisy replicates at 0.4 % of F_max (filled). The speed ratios (``speedups``) are taken at
+   equal accuracy on those replicates.
 2. **Recovery** — ``fit_contact_recovery.png``: RMS error of E*, e, μ against the noise
    level (at 2 MHz) and the sampling rate (at 0.4 % noise), the issue's targets dashed.
 3. **Coverage** — ``fit_contact_coverage.png``: over ``N_COVER`` noisy replicates (0.4 %)
@@ -177,9 +178,7 @@ def _pareto():
     def ours(label, rep_time=5, **kw):
         opts = dict(n_boot=0, vary=VARY4, **kw)
         t, fit = _cpu(lambda: _quiet(fit_contact, noisy[0], SCENE, **opts), rep_time)
-        clean_fit = _quiet(
-            fit_contact, clean, SCENE, **{**opts, "n_boot": 0}
-        )
+        clean_fit = _quiet(fit_contact, clean, SCENE, **{**opts, "n_boot": 0})
         errs = [
             _errors(_quiet(fit_contact, r, SCENE, **{**opts, "n_boot": 0}).values, SCENE)
             for r in noisy
@@ -261,9 +260,11 @@ def _pareto():
 
 def _ratios(methods):
     """Speed ratios of the ODE fitter's time over the master curve's (n_steps 128; with the
-    bootstrap: the default setting). Accuracy: the master curve's own error (noise-free
-    record) is at most the ODE fitter's for E*, e and μ; on noisy records both sit at the
-    noise's error (the RMS errors in the table, on the same replicates)."""
+    bootstrap: the default setting), and whether the master curve is as accurate: its RMS
+    errors of E*, e and μ over the same noisy replicates within 5 % of the ODE fitter's (or
+    below). On the near noise-free record the ODE fitter runs the very solver that made the
+    data, so its own error there is its interpolation's; the master curve's, ~1e-5, is two
+    orders under the errors any noise gives (both are in the JSON)."""
     ours = next(m for m in methods if m["method"] == "master curve, n_steps=128")
     ours_b = next(m for m in methods if m.get("default"))
     out = {}
@@ -271,7 +272,8 @@ def _ratios(methods):
         if "rtol" not in m:
             continue
         acc = all(
-            ours["error_noise_free"][k] <= m["error_noise_free"][k] for k in ("E_eff", "e", "mu")
+            ours["rms_error_noisy"][k] <= 1.05 * m["rms_error_noisy"][k]
+            for k in ("E_eff", "e", "mu")
         )
         ref = ours_b if m.get("bootstrap") else ours
         out[m["method"]] = {
@@ -516,6 +518,18 @@ def _plot_coverage(path, result):
     np.atleast_1d(axes)[0].legend(fontsize=7, loc="lower left")
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=150, format="png")
+
+
+def rerender(out_dir: Path) -> dict:
+    """Recompute the ratios and redraw the charts from an existing ``fit_contact.json``."""
+    out_dir = Path(out_dir)
+    result = json.loads((out_dir / "fit_contact.json").read_text())
+    result["speedups"] = _ratios(result["methods"])
+    atomic_write_bytes(out_dir / "fit_contact.json", json.dumps(result, indent=1).encode())
+    _plot_pareto(out_dir / "fit_contact.png", result)
+    _plot_recovery(out_dir / "fit_contact_recovery.png", result)
+    _plot_coverage(out_dir / "fit_contact_coverage.png", result)
+    return result
 
 
 if __name__ == "__main__":
