@@ -253,7 +253,6 @@ def prepare(
         baseline = win.kind == "sensor"
     half = None if not math.isfinite(spec.full_scale) else 0.5 * spec.full_scale
     chans = []
-    uniform_t = None
     for name in channels:
         t, f = channel(record, name)
         keep = (t >= lo) & (t <= hi)
@@ -284,7 +283,6 @@ def prepare(
             A = np.column_stack([np.ones(tc.size), (tc - tc.mean()) / max(np.ptp(tc), 1e-300)])
             basis = np.linalg.qr(A)[0]
         chans.append(Channel(name, tc, yc, sigma, basis))
-        uniform_t = tc if uniform_t is None else uniform_t
     fine, sos, os_ = None, None, 1
     if spec.filtered:
         t0 = chans[0].t
