@@ -57,7 +57,7 @@ from .errors import InputError, PipelineWarning
 from .record import FORCE_CHANNELS, channel, make_record, validate
 from .scene import Scene
 
-__all__ = ["to_sensor", "SENSOR_DEFAULTS", "SensorSaturationWarning"]
+__all__ = ["to_sensor", "butterworth_sos", "SENSOR_DEFAULTS", "SensorSaturationWarning"]
 
 #: Defaults of :func:`to_sensor`, plausible for the Garland–Rogers rig (PHYSICS.md §5).
 SENSOR_DEFAULTS = {
@@ -120,8 +120,14 @@ def _nonneg(value, name):
     return v
 
 
-def _butterworth_foh(order: int, bandwidth: float, dt: float) -> np.ndarray:
-    """Second-order sections of an analogue Butterworth low-pass, first-order-hold exact."""
+def butterworth_sos(order: int, bandwidth: float, dt: float) -> np.ndarray:
+    """The sensor's low-pass as digital second-order sections [-].
+
+    An analogue Butterworth low-pass of ``order`` and ``bandwidth`` [Hz] (−3 dB), made
+    discrete for the step ``dt`` [s] exactly for inputs linear between samples
+    (first-order hold), for :func:`scipy.signal.sosfilt`. The same filter
+    :func:`to_sensor` applies and :mod:`pipeline.fit` models.
+    """
     z, p, k = signal.butter(order, 2.0 * np.pi * bandwidth, analog=True, output="zpk")
     A, B, C, D = signal.zpk2ss(z, p, k)
     Ad, Bd, Cd, Dd, _ = signal.cont2discrete((A, B, C, D), dt, method="foh")
@@ -328,7 +334,7 @@ def to_sensor(
         true_fine = np.stack(
             [np.interp(t_fine, tc, fc, left=0.0, right=0.0) for tc, fc in ideal_pts]
         )
-        sos = _butterworth_foh(filter_order, bandwidth, period / os_used)
+        sos = butterworth_sos(filter_order, bandwidth, period / os_used)
         ideal = signal.sosfilt(sos, true_fine, axis=-1)[:, lead * os_used :: os_used]
     # The same linear filter acts on every axis, so mixing after it equals mixing before.
     mixed = C @ ideal

@@ -572,17 +572,24 @@ class _Found:
         return (self.a, self.b)
 
 
+#: No force sensor resolves better than about 1e-6 of its signal's range (20 bits): a noise
+#: level below that is taken as that, so the rounding of a noise-free (simulated) record's
+#: baseline fit is not mistaken for signal.
+_RESOLUTION_FLOOR = 1e-6
+
+
 def _sigma(r, y) -> float:
     """Noise level of the baseline residuals ``r`` of a channel whose samples are ``y``: the
     MAD estimate; the standard deviation where the MAD is 0 (quantised, nearly noise-free);
     where both are 0 (a noise-free baseline on one ADC level) the converter's rounding
-    noise q/√12, q the grid step of the whole channel (:func:`pipeline.percussion.adc_step`)."""
+    noise q/√12, q the grid step of the whole channel (:func:`pipeline.percussion.adc_step`);
+    never below :data:`_RESOLUTION_FLOOR` of the channel's range."""
     sigma = mad_sigma(r) or float(np.std(r))
     if sigma == 0.0:
         from .percussion import adc_step
 
         sigma = adc_step(y) / math.sqrt(12.0)
-    return sigma
+    return max(sigma, _RESOLUTION_FLOOR * float(np.ptp(y)))
 
 
 def _initial_baseline(t, y, t_ref):

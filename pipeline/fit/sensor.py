@@ -116,9 +116,9 @@ class SensorSpec:
 
 @functools.lru_cache(maxsize=64)
 def _sos(order, bandwidth, dt):
-    from ..sensor_model import _butterworth_foh
+    from ..sensor_model import butterworth_sos
 
-    return _butterworth_foh(order, bandwidth, dt)
+    return butterworth_sos(order, bandwidth, dt)
 
 
 def _num(value, name, src):

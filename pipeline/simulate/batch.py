@@ -264,8 +264,8 @@ def tangential_history(
         √x with x = δ/δ_max, and the normal force over m*·v0²/δ_max, at the half steps
         τ_j = j·h/2 of the dimensionless time τ = t·v0/δ_max (δ_max the scene's elastic
         Hertz maximum approach, v0 its normal approach speed); zero out of contact.
-    h : float
-        Dimensionless step.
+    h : float or array_like, shape (N,)
+        Dimensionless step, one for all impacts or one per impact (column).
     s0 : array_like, shape (N,) — initial slip / v0, ≥ 0 (on the initial-slip axis)
     lam : array_like — m*/m_t (m_t the tangential effective mass)
     mu : array_like — Coulomb friction coefficient [-]
