@@ -37,11 +37,86 @@ from .errors import InputError
 from .record import channel
 from .scene import Scene
 
-__all__ = ["Analysis", "analyse", "estimate_mu", "noise_level", "MIN_SAMPLES"]
+__all__ = ["Analysis", "Outcomes", "analyse", "estimate_mu", "noise_level", "MIN_SAMPLES"]
 
 #: Fewest samples per channel in the window for scoring the samples themselves (Simpson's
 #: rule needs three); sparser records are scored from the polynomial fit.
 MIN_SAMPLES = 3
+
+
+#: Units of the measured outcomes (:class:`Outcomes`).
+OUTCOME_UNITS = {
+    "e_n": "1",
+    "e_t": "1",
+    "omega": "rad/s",
+    "rebound_deg": "deg",
+    "Pn_f": "N s",
+    "Pt_f": "N s",
+}
+
+
+@dataclass(frozen=True)
+class Outcomes:
+    r"""What the record says the impact did: restitution, spin and rebound, measured.
+
+    From the final percussions of the scored source and the scene's mass, radius and
+    approach (``docs/theory.md``, sign conventions):
+
+    .. math::
+
+        e_n = \frac{P_{nf} - P_{nc}}{P_{nc}}, \quad
+        e_t = 1 - \frac{P_{tf}}{m\,v_{t0}}, \quad
+        \omega = \omega_0 + \frac{P_{tf}}{\kappa m R}, \quad
+        \theta_r = \arctan\frac{v_{t0} - P_{tf}/m}{P_{nf}/m^* - v_{n0}}
+
+    (Poisson's restitution, the tangential restitution of the centre, the spin after impact
+    positive in the sense Pt > 0 produces, the rebound angle from the normal). ``std``
+    holds the standard deviation over the analysis' bootstrap replicates (NaN without).
+
+    Attributes
+    ----------
+    values, std : dict
+        ``{"e_n", "e_t", "omega", "rebound_deg", "Pn_f", "Pt_f"}`` → float, units in
+        :data:`OUTCOME_UNITS` ([-], [-], [rad/s], [deg], [N·s], [N·s]).
+    """
+
+    values: dict
+    std: dict
+
+    def __getitem__(self, name: str) -> float:
+        return self.values[name]
+
+    def summary(self) -> dict:
+        """JSON-ready ``{name: {"value", "std", "units"}}``."""
+        return json_ready(
+            {
+                k: {"value": v, "std": self.std[k], "units": OUTCOME_UNITS[k]}
+                for k, v in self.values.items()
+            }
+        )
+
+
+def measured_outcomes(scene: Scene, Pn_f, Pt_f, Pn_c) -> dict:
+    """e_n, e_t, ω, rebound angle (:class:`Outcomes`) from final percussions [N·s].
+
+    ``Pn_f``, ``Pt_f``, ``Pn_c`` may be arrays (bootstrap replicates); e_t is NaN where the
+    scene has no tangential approach (v_t0 = 0).
+    """
+    Pn_f, Pt_f, Pn_c = (np.asarray(x, dtype=float) for x in (Pn_f, Pt_f, Pn_c))
+    m, m_eff = float(scene.m), float(scene.m_eff)
+    v_t0, v_n0 = float(scene.v_t0), float(scene.v_n0)
+    v_t = v_t0 - Pt_f / m
+    v_n = Pn_f / m_eff - v_n0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        e_t = v_t / v_t0 if v_t0 != 0 else np.full_like(Pt_f, np.nan)
+    return {
+        "e_n": (Pn_f - Pn_c) / Pn_c,
+        "e_t": e_t,
+        "omega": float(scene.spin) + Pt_f / (float(scene.kappa) * m * float(scene.radius)),
+        "rebound_deg": np.degrees(np.arctan2(v_t, v_n)),
+        "Pn_f": Pn_f,
+        "Pt_f": Pt_f,
+    }
 
 
 @dataclass(frozen=True, eq=False)
@@ -81,6 +156,9 @@ class Analysis:
         What the record's sampling, noise, ADC, bandwidth and baseline let the percussions
         resolve; ``resolution.flags`` names every failure region it is in (each also a
         :class:`~pipeline.percussion.ResolutionWarning`; docs/stability.md).
+    outcomes : Outcomes
+        Restitution, spin and rebound angle measured from the ``source`` percussions, with
+        bootstrap standard deviations.
     """
 
     scene: Scene
@@ -98,6 +176,7 @@ class Analysis:
     sources: dict = dataclasses.field(default_factory=dict)
     resolution: object = None
     model_selection: object = None
+    outcomes: Outcomes | None = None
 
     @property
     def fitted(self) -> dict:
@@ -176,6 +255,7 @@ class Analysis:
                 "score": self.score.summary(),
                 "score_fit": self.score_fit.summary(),
                 "resolution": None if self.resolution is None else self.resolution.summary(),
+                "outcomes": None if self.outcomes is None else self.outcomes.summary(),
             }
         )
 
@@ -352,15 +432,17 @@ def analyse(
     rigid = _rigid.sphere_on_plane(rigid_scene)
     res = _perc.resolution(win, perc, record=record, scale=_score.references(rigid))
     boot = _bootstrap(win, perc, fits, n_boot, seed)
+    boot_src = _boot_for(split, boot, perc)
     score = _score.deviation_score(
         perc.time,
         perc.Pn(source),
         perc.Pt(source),
         rigid,
         split.Pn_c,
-        boot=_boot_for(split, boot, perc),
+        boot=boot_src,
         source=source,
     )
+    outcomes = _outcomes(scene, perc, split, source, boot_src)
     if source == "fit":
         score_fit = score
     else:
@@ -400,7 +482,21 @@ def analyse(
         sources={"mu": mu_src, "e": e_src},
         resolution=res,
         model_selection=selection,
+        outcomes=outcomes,
     )
+
+
+def _outcomes(scene, perc, split, source, boot) -> Outcomes:
+    """Measured outcomes of the ``source`` percussions; std over the bootstrap replicates."""
+    values = measured_outcomes(scene, perc.Pn(source)[-1], perc.Pt(source)[-1], split.Pn_c)
+    if boot is None:
+        std = dict.fromkeys(values, float("nan"))
+    else:
+        reps = measured_outcomes(scene, boot[0][:, -1], boot[1][:, -1], boot[2])
+        std = {k: _score._spread(v) for k, v in reps.items()}
+    return Outcomes({k: float(v) for k, v in values.items()}, std)
+
+
 
 
 def _wants_fit(how, from_scene, scene) -> bool:

@@ -1,0 +1,165 @@
+r"""Campaigns: many records (angles × speeds × repeats) analysed into one ``xarray.Dataset``.
+
+A lab does not measure one impact. :func:`campaign` takes a folder, a glob or a list of
+record files, finds each record's scene (module notes), analyses every record
+(:func:`pipeline.analyse`: window, percussions, Routh's prediction, deviation score, the
+measured outcomes e_n, e_t, ω and rebound angle with bootstrap uncertainties), fits the
+contact parameters of each record where the fitter is installed, and gathers everything into
+one Dataset with a ``record`` dimension:
+
+- coordinates ``angle`` [deg], ``speed`` [m/s], ``v_t0`` [m/s], ``repeat`` (the n-th record
+  of the same angle and speed, or the table's ``repeat`` column);
+- ``status`` (``"ok"`` or ``"failed"``) and ``reason`` (why it failed, ``""`` when ok): a
+  record that fails is listed and the rest goes on; input files are only read;
+- measured outcomes and their 1-σ bootstrap spread (``e_n``, ``e_n_std``, ...), the rigid
+  prediction beside them (``e_t_rigid``, ...), the regime, the deviation score as
+  ``score(record, phase, metric)`` and ``score_std``, μ estimated from the record;
+- the fitted contact parameters where available (``fit_<name>``, ``fit_<name>_std``);
+- the campaign's trends in ``attrs`` and as scalar variables (:func:`trends`): the friction
+  law μ = a + b·v_t0 fitted to the records' μ, and the two damping hypotheses for e(v)
+  (constant e; constant Hunt–Crossley material constant α, under which e falls with speed).
+
+Where each record's scene comes from (``scene_source``), later entries winning field by
+field: ``scenes=`` (one Scene for all, a mapping from file name or stem to Scene, or a
+callable of the path), the record's JSON sidecar (``<stem>.json`` with a ``"scene"``
+object), then a row of ``table=`` (a pandas DataFrame or CSV file with a ``file`` column and
+Scene fields such as ``speed``, ``angle_deg``, ``mu``, ``e``; optional ``repeat``).
+
+Scale-out (``docs/cluster.md``): ``workers=N`` runs the records as tasks on a local
+dask.distributed cluster of N single-threaded worker processes, ``scheduler="tcp://..."``
+(or a ``distributed.Client``) on an existing cluster. Each task is a pure function of the
+record's file and scene, so the gathered Dataset is identical, byte for byte once written,
+to the serial run's. ``batched=True`` analyses the records in this process with the
+bootstrap of all records in one vectorised pass (:func:`analyse_batch`).
+
+References
+----------
+P. P. Garland, R. J. Rogers, J. Appl. Mech. 76:031015 (2009), doi:10.1115/1.3086432
+(friction rising linearly with the initial tangential speed).
+K. H. Hunt, F. R. E. Crossley, J. Appl. Mech. 42:440 (1975), doi:10.1115/1.3423596.
+"""
+
+from __future__ import annotations
+
+import inspect
+from collections.abc import Callable
+from pathlib import Path
+
+import xarray as xr
+
+from ..analysis import analyse
+from ..errors import InputError
+from .dataset import assemble, table_of, trends, with_trends, write_campaign
+from .run import run_tasks
+from .tasks import (
+    FIT_PARAMETERS,
+    OUTCOMES,
+    RecordResult,
+    RecordTask,
+    plan,
+    record_files,
+    record_numbers,
+    run_record,
+)
+
+__all__ = [
+    "campaign",
+    "RecordTask",
+    "RecordResult",
+    "record_files",
+    "plan",
+    "run_record",
+    "record_numbers",
+    "run_tasks",
+    "assemble",
+    "trends",
+    "with_trends",
+    "table_of",
+    "write_campaign",
+    "OUTCOMES",
+    "FIT_PARAMETERS",
+]
+
+
+def campaign(
+    paths,
+    *,
+    scenes=None,
+    table=None,
+    fit: bool = True,
+    workers: int | None = None,
+    scheduler=None,
+    batched: bool = False,
+    progress: Callable | None = None,
+    **options,
+) -> xr.Dataset:
+    """Analyse many records into one Dataset (module notes give its layout).
+
+    Parameters
+    ----------
+    paths : str, os.PathLike or list
+        A folder, a glob (``"runs/*.csv"``), a record file, or a list of these.
+    scenes : Scene, mapping or callable, optional
+        Scene(s) for records without a sidecar (module notes: where scenes come from).
+    table : pandas.DataFrame or path, optional
+        Per-record scene fields and repeat numbers, keyed by a ``file`` column.
+    fit : bool
+        Fit each record's contact parameters too (where :func:`pipeline.fit_contact` is
+        installed).
+    workers : int, optional
+        Run on a local dask.distributed cluster of this many worker processes.
+    scheduler : str or distributed.Client, optional
+        Run on an existing dask cluster (``"tcp://host:8786"``) or client.
+    batched : bool
+        Analyse in this process with one vectorised bootstrap for all records
+        (:func:`analyse_batch`); not with ``workers``/``scheduler``.
+    progress : callable, optional
+        Called with each :class:`RecordResult` as it completes (the CLI's progress bar).
+    **options
+        Keyword arguments of :func:`pipeline.analyse` (``n_boot``, ``seed``, ``degree``,
+        ``source``, ...), the same for every record.
+
+    Returns
+    -------
+    xarray.Dataset
+        Dimension ``record`` (module notes); ``attrs["trends_json"]`` and the ``trend_*``
+        variables hold :func:`trends`.
+
+    Raises
+    ------
+    InputError
+        No records, an unreadable table, bad options, an unreachable scheduler. A bad
+        record never raises: it is listed with ``status="failed"`` and its ``reason``.
+    """
+    _check_options(options)
+    if batched and (workers or scheduler is not None):
+        raise InputError("batched=True runs in this process; leave out workers/scheduler")
+    tasks = plan(paths, scenes=scenes, table=table, fit=fit, **options)
+    if batched:
+        from .batch import analyse_tasks
+
+        results = analyse_tasks(tasks, progress=progress)
+    else:
+        results = run_tasks(
+            tasks, run_record, workers=workers, scheduler=scheduler, progress=progress
+        )
+    ds = assemble(tasks, results)
+    ds.attrs["source"] = _label(paths)
+    return with_trends(ds)
+
+
+def _label(paths) -> str:
+    """How the campaign's records were named (for titles): the folder, glob or files."""
+    items = [paths] if isinstance(paths, (str, Path)) else list(paths)
+    text = ", ".join(str(p) for p in items[:3])
+    return text + (f" and {len(items) - 3} more" if len(items) > 3 else "")
+
+
+def _check_options(options: dict) -> None:
+    allowed = set(inspect.signature(analyse).parameters) - {"record", "scene"}
+    unknown = sorted(set(options) - allowed)
+    if unknown:
+        raise InputError(
+            f"unknown option(s) {', '.join(unknown)}; campaign passes these to analyse: "
+            f"{', '.join(sorted(allowed))}"
+        )

@@ -1,0 +1,358 @@
+"""The records of a campaign as tasks: which files, which scene, one record analysed.
+
+:func:`plan` turns a folder, glob or list of files (and optional scenes and table) into
+picklable :class:`RecordTask` objects; :func:`run_record` analyses one and returns a
+:class:`RecordResult` of plain numbers and strings, or the reason it failed — it never
+raises for a bad record, so a campaign lists failures and goes on. Being pure functions of
+the task, they run the same in this process, in a dask worker or on a cluster.
+"""
+
+from __future__ import annotations
+
+import glob as _glob
+import json
+import logging
+import math
+import traceback
+import warnings
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from .._json import json_ready
+from ..analysis import OUTCOME_UNITS, Analysis, analyse
+from ..errors import InputError, PipelineWarning
+from ..scene import Scene
+from ..score import METRICS, PHASES
+
+__all__ = [
+    "RecordTask",
+    "RecordResult",
+    "record_files",
+    "plan",
+    "run_record",
+    "record_numbers",
+    "OUTCOMES",
+    "FIT_PARAMETERS",
+]
+
+log = logging.getLogger(__name__)
+
+#: Measured outcomes per record (value and ``_std``), with units.
+OUTCOMES = dict(OUTCOME_UNITS)
+
+#: Contact parameters a per-record fit reports (value and ``_std``), with units.
+FIT_PARAMETERS = {"E_eff": "Pa", "e": "1", "mu": "1", "kt_scale": "1"}
+
+_GLOB_CHARS = set("*?[")
+_DATA_SUFFIXES = (".csv", ".tdms")
+
+
+@dataclass(frozen=True)
+class RecordTask:
+    """One record of a campaign, as a picklable task (everything a worker needs).
+
+    Attributes
+    ----------
+    name : str — the record's name in the Dataset (its file name)
+    path : str — the record file (its sidecar, if any, beside it)
+    scene : dict or None — Scene fields (SI, :meth:`pipeline.Scene.to_dict`); None: none known
+    scene_source : str — where the scene came from (module notes)
+    repeat : int or None — the table's repeat number, None to number them automatically
+    options : dict — keyword arguments of :func:`pipeline.analyse`
+    fit : bool — also fit the contact parameters (where :func:`pipeline.fit_contact` exists)
+    """
+
+    name: str
+    path: str
+    scene: dict | None
+    scene_source: str
+    repeat: int | None = None
+    options: dict = field(default_factory=dict)
+    fit: bool = True
+
+
+@dataclass(frozen=True)
+class RecordResult:
+    """What a task returns: numbers and strings, or the reason it failed.
+
+    Attributes
+    ----------
+    name : str
+    status : str — ``"ok"`` or ``"failed"``
+    reason : str — why it failed (``""`` when ok)
+    numbers : dict — name → float (SI; see the Dataset's variables)
+    texts : dict — name → str
+    warnings : tuple of str — the library's warnings for this record
+    """
+
+    name: str
+    status: str
+    reason: str = ""
+    numbers: dict = field(default_factory=dict)
+    texts: dict = field(default_factory=dict)
+    warnings: tuple = ()
+
+
+# ------------------------------------------------------------------ which records
+def record_files(paths) -> list[Path]:
+    """The record files of a folder, a glob, a file, or a list of any of these.
+
+    A folder gives its data files (``*.csv``, ``*.tdms``), less
+    the parts another sidecar combines into one record (:func:`pipeline.report.sample_files`);
+    sidecars (``*.json``) are not records. Order: as given, each folder or glob sorted by
+    name; duplicates dropped.
+
+    Raises
+    ------
+    InputError
+        A path that does not exist, a glob or folder with no record file.
+    """
+    from ..report import sample_files
+
+    items = [paths] if isinstance(paths, (str, Path)) else list(paths)
+    if not items:
+        raise InputError("no records given: name a folder, a glob or files")
+    out: list[Path] = []
+    for item in items:
+        text = str(item)
+        p = Path(item)
+        if p.is_dir():
+            found = sample_files(p)
+            if not found:
+                raise InputError("no record files (*.csv, *.tdms) in this folder", path=p)
+            out += found
+        elif _GLOB_CHARS & set(text):
+            found = sorted(
+                Path(q) for q in _glob.glob(text) if Path(q).suffix.lower() in _DATA_SUFFIXES
+            )
+            if not found:
+                raise InputError(f"the pattern {text!r} matches no record file (*.csv, *.tdms)")
+            out += found
+        elif p.is_file():
+            out.append(p)
+        else:
+            raise InputError("no such file or folder; check the path", path=p)
+    seen, unique = set(), []
+    for p in out:
+        key = p.resolve()
+        if key not in seen:
+            seen.add(key)
+            unique.append(p)
+    return unique
+
+
+def _read_table(table) -> dict[str, dict]:
+    """Rows of the campaign table by file name: ``{name: {field: value}}``."""
+    import pandas as pd
+
+    if table is None:
+        return {}
+    if isinstance(table, (str, Path)):
+        path = Path(table)
+        try:
+            df = pd.read_csv(path, comment="#", skipinitialspace=True)
+        except FileNotFoundError:
+            raise InputError("no such table file; check the path", path=path) from None
+        except (ValueError, pd.errors.ParserError) as exc:
+            raise InputError(f"cannot read the table as CSV: {exc}", path=path) from exc
+    elif isinstance(table, pd.DataFrame):
+        df, path = table, None
+    else:
+        raise InputError(
+            f"table= takes a CSV path or a pandas DataFrame, got {type(table).__name__}"
+        )
+    key = "file" if "file" in df.columns else "record" if "record" in df.columns else None
+    if key is None:
+        raise InputError("the table needs a 'file' column naming each record file", path=path)
+    allowed = set(Scene.field_names()) | {key, "repeat"}
+    unknown = [c for c in df.columns if c not in allowed]
+    if unknown:
+        raise InputError(
+            f"unknown table column(s) {', '.join(map(repr, unknown))}: use 'file', "
+            f"'repeat' and Scene fields ({', '.join(Scene.field_names())})",
+            path=path,
+        )
+    rows = {}
+    for i, row in enumerate(df.to_dict("records")):
+        name = str(row.pop(key)).strip()
+        if name in rows:
+            raise InputError(f"record {name!r} appears twice", path=path, line=i + 2)
+        rows[name] = {k: v for k, v in row.items() if not _missing(v)}
+    return rows
+
+
+def _missing(v) -> bool:
+    return v is None or (isinstance(v, float) and math.isnan(v))
+
+
+def _scene_for(path: Path, scenes, row: dict | None) -> tuple[dict | None, str]:
+    """The Scene fields of a record and where they came from (module notes)."""
+    from ..report import read_sidecar
+
+    fields: dict = {}
+    sources = []
+    if isinstance(scenes, Scene):
+        fields, sources = scenes.to_dict(), ["given"]
+    elif isinstance(scenes, Mapping):
+        s = scenes.get(path.name, scenes.get(path.stem))
+        if s is not None:
+            fields = s.to_dict() if isinstance(s, Scene) else dict(s)
+            sources = ["given"]
+    elif callable(scenes):
+        s = scenes(path)
+        if s is not None:
+            fields = s.to_dict() if isinstance(s, Scene) else dict(s)
+            sources = ["given"]
+    elif scenes is not None:
+        raise InputError("scenes= takes a Scene, a mapping of file names to Scenes, or a callable")
+    side = read_sidecar(path).get("scene")
+    if side is not None:
+        Scene.from_dict(side, path=path.with_suffix(".json"))  # its own errors, named
+        fields.update(side)
+        sources.append("sidecar")
+    if row:
+        fields.update({k: v for k, v in row.items() if k != "repeat"})
+        sources.append("table")
+    if not fields:
+        return None, "none"
+    return fields, "+".join(sources)
+
+
+def plan(paths, *, scenes=None, table=None, fit=True, **options) -> list[RecordTask]:
+    """The tasks of a campaign: one :class:`RecordTask` per record file.
+
+    Parameters are those of :func:`campaign`. Fails early (``InputError``) on what makes the
+    whole campaign impossible (no records, an unreadable table, a table row naming no
+    record); a record whose scene is missing or invalid becomes a task that fails alone.
+    """
+    files = record_files(paths)
+    rows = _read_table(table)
+    names = {p.name for p in files} | {p.stem for p in files}
+    stray = [k for k in rows if k not in names]
+    if stray:
+        raise InputError(
+            f"the table names record(s) not among the files: {', '.join(map(repr, stray))}"
+        )
+    tasks = []
+    for p in files:
+        row = rows.get(p.name, rows.get(p.stem))
+        try:
+            scene, source = _scene_for(p, scenes, row)
+        except InputError as exc:
+            scene, source = {"__error__": str(exc)}, "invalid"
+        repeat = None if not row or "repeat" not in row else int(row["repeat"])
+        tasks.append(RecordTask(p.name, str(p), scene, source, repeat, dict(options), fit))
+    return tasks
+
+
+# ------------------------------------------------------------------ one record
+def run_record(task: RecordTask) -> RecordResult:
+    """Analyse one record (a campaign task); never raises for a bad record.
+
+    Every failure, including an unexpected one, comes back as ``status="failed"`` with its
+    reason; warnings of the library are collected in ``warnings``.
+    """
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            numbers, texts = _analyse_task(task)
+            result = RecordResult(task.name, "ok", "", numbers, texts)
+        except InputError as exc:
+            result = RecordResult(task.name, "failed", str(exc))
+        except Exception as exc:  # a bug or a numerical failure: listed, the rest goes on
+            log.debug("%s: %s", task.name, traceback.format_exc())
+            result = RecordResult(task.name, "failed", f"{type(exc).__name__}: {exc}")
+    msgs = tuple(
+        f"{w.category.__name__}: {w.message}"
+        for w in caught
+        if issubclass(w.category, PipelineWarning)
+    )
+    return RecordResult(
+        result.name, result.status, result.reason, result.numbers, result.texts, msgs
+    )
+
+
+def _task_scene(task: RecordTask) -> Scene:
+    if task.scene is None:
+        raise InputError(
+            "no scene for this record: put a sidecar <record>.json with a 'scene' beside "
+            "it, or give scenes= / a table row (pipeline campaign --scene/--table)",
+            path=task.path,
+        )
+    if "__error__" in task.scene:
+        raise InputError(task.scene["__error__"])
+    return Scene.from_dict(task.scene, path=task.path)
+
+
+def _analyse_task(task: RecordTask) -> tuple[dict, dict]:
+    from ..report import load_sample
+
+    scene = _task_scene(task)
+    rec = load_sample(task.path)
+    a = analyse(rec, scene, **task.options)
+    numbers, texts = record_numbers(a)
+    texts["scene_source"] = task.scene_source
+    if task.fit:
+        numbers.update(_fit_numbers(rec, scene))
+    return numbers, texts
+
+
+def record_numbers(a: Analysis) -> tuple[dict, dict]:
+    """The campaign's per-record numbers and strings of one analysis."""
+    rs, sc = a.rigid, a.rigid_scene
+    numbers = {}
+    for k in OUTCOMES:
+        numbers[k] = a.outcomes.values[k]
+        numbers[f"{k}_std"] = a.outcomes.std[k]
+    v_n = float(rs.v_n)
+    numbers.update(
+        e_t_rigid=float(rs.e_t),
+        omega_rigid=float(rs.omega),
+        rebound_deg_rigid=math.degrees(math.atan2(float(rs.v_t), v_n)),
+        mu_record=a.mu_record,
+        mu_rigid=float(sc.mu),
+        e_rigid=float(sc.e),
+        F_max=float(a.record["Fn"].max()),
+        t_contact=float(a.window.t_end - a.window.t_start),
+        noise_Fn=float(a.window.noise.get("Fn", float("nan"))),
+        angle=float(a.scene.angle_deg),
+        speed=float(a.scene.speed),
+        v_t0=float(a.scene.v_t0),
+    )
+    for phase in PHASES:
+        for m in METRICS:
+            numbers[f"score/{phase}/{m}"] = a.score.values[phase][m]
+            numbers[f"score_std/{phase}/{m}"] = a.score.std[phase][m]
+    attrs = a.record.attrs
+    texts = {
+        "file": str(attrs.get("source", "")),
+        "sha256": str(attrs.get("sha256", "")),
+        "format": str(attrs.get("format", "")),
+        "regime": str(rs.regime),
+        "mu_source": a.sources.get("mu", ""),
+        "e_source": a.sources.get("e", ""),
+        "scene_json": json.dumps(json_ready(a.scene.to_dict()), sort_keys=True),
+    }
+    return numbers, texts
+
+
+def _fit_numbers(record, scene) -> dict:
+    """Fitted contact parameters of one record, where the fitter exists (else none).
+
+    The seam for :func:`pipeline.fit_contact` (the parameter fits): ``fit_<name>`` and
+    ``fit_<name>_std`` for the names in :data:`FIT_PARAMETERS` it reports, and
+    ``fit_redchi``.
+    """
+    try:
+        from ..fit import fit_contact
+    except ImportError:
+        return {}
+    f = fit_contact(record, scene)
+    out = {}
+    for name in FIT_PARAMETERS:
+        if name in f.values:
+            out[f"fit_{name}"] = float(f.values[name])
+            out[f"fit_{name}_std"] = float(f.stderr.get(name, float("nan")))
+    out["fit_redchi"] = float(f.redchi)
+    return out
