@@ -259,6 +259,52 @@ class Analysis:
             }
         )
 
+    def describe(self) -> str:
+        """A readable summary for a person: the record, the scene and where its μ and e
+        came from, the measured outcomes with their bootstrap std beside the rigid
+        prediction, the regime and the deviation score (what ``pipeline analyse`` prints).
+        """
+        sc, rs, o = self.scene, self.rigid, self.outcomes
+        src = self.record.attrs.get("source", "record")
+        lines = [
+            f"{src}: {self.record.attrs.get('format', '?')}, "
+            f"{self.window.n_samples} samples in the contact window "
+            f"({(self.window.t_end - self.window.t_start) * 1e6:.1f} µs)",
+            f"scene: ball R = {sc.radius * 1e3:.3g} mm, m = {float(sc.m) * 1e3:.4g} g; "
+            f"v = {sc.speed:g} m/s at {sc.angle_deg:g}° (v_n0 = {float(sc.v_n0):.4g} m/s, "
+            f"v_t0 = {float(sc.v_t0):.4g} m/s)",
+            f"rigid model: μ = {self.rigid_scene.mu:.4g} (from the {self.sources.get('mu')}), "
+            f"e = {self.rigid_scene.e:.4g} (from the {self.sources.get('e')}); "
+            f"μ estimated from the record = {self.mu_record:.4g}",
+            f"regime (Routh): {rs.regime}",
+            "",
+            f"{'':14s}{'measured':>22s}{'rigid':>12s}",
+        ]
+        rigid = {
+            "e_n": float(self.rigid_scene.e),
+            "e_t": float(rs.e_t),
+            "omega": float(rs.omega),
+            "rebound_deg": float(np.degrees(np.arctan2(float(rs.v_t), float(rs.v_n)))),
+        }
+        names = {"e_n": "e_n [-]", "e_t": "e_t [-]", "omega": "ω [rad/s]"}
+        names["rebound_deg"] = "rebound [deg]"
+        for k, label in names.items():
+            v, s = o.values[k], o.std[k]
+            pm = f"{v:.4g} ± {s:.2g}" if np.isfinite(s) else f"{v:.4g}"
+            lines.append(f"{label:14s}{pm:>22s}{rigid[k]:>12.4g}")
+        lines.append("")
+        lines.append(
+            f"deviation from the rigid line ({self.score.source} percussions, "
+            f"± bootstrap std of {self.score.n_boot}):"
+        )
+        for phase in ("total", "compression", "restitution"):
+            parts = []
+            for m in ("area", "max_distance"):
+                v, s = self.score.values[phase][m], self.score.std[phase][m]
+                parts.append(f"{m} {v:.3f}" + (f" ± {s:.3f}" if np.isfinite(s) else ""))
+            lines.append(f"  {phase:12s}" + ", ".join(parts))
+        return "\n".join(lines)
+
     def to_dataset(self) -> xr.Dataset:
         """Percussions, fitted forces and the rigid line on the percussion grid (netCDF-ready).
 

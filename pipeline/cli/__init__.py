@@ -17,11 +17,11 @@ import sys
 import traceback
 
 from ..errors import InputError
-from . import analyse, fit, reproduce
+from . import analyse, campaign, export, fit, report, reproduce
 from ._common import EXIT_BAD_INPUT, EXIT_CODES, EXIT_INTERNAL, Parser
 
 #: The subcommand modules, in the order ``pipeline --help`` lists them.
-COMMANDS = (reproduce, analyse, fit)
+COMMANDS = (reproduce, analyse, fit, campaign, report, export)
 
 
 def main(argv=None) -> int:

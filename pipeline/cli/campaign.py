@@ -1,0 +1,136 @@
+"""``pipeline campaign DIR|GLOB|FILES --out DIR``: many records into one Dataset and reports.
+
+Writes ``campaign.nc`` (the Dataset of :func:`pipeline.campaign`), ``campaign.csv`` (one row
+per record), the campaign figures, and under ``reports/`` one executed fit-report notebook
+per analysed record (``<record>.ipynb`` and ``.html``) and the campaign's own
+(``campaign.ipynb``, ``.html``). A record that fails is listed with its reason; the exit
+status is 0 when at least one record was analysed, 1 when none was.
+"""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+from ._common import log_warnings, read_scene
+from ._options import add_progress, nonneg_int, pos_int, progress_bar
+
+
+def register(sub) -> None:
+    p = sub.add_parser(
+        "campaign",
+        help="analyse many records into one Dataset, figures and reports",
+        description=__doc__.split("\n\n")[1],
+    )
+    p.add_argument(
+        "paths",
+        nargs="+",
+        metavar="DIR|GLOB|FILE",
+        help="a folder of records, a quoted glob ('runs/*.csv') or record files",
+    )
+    p.add_argument(
+        "--out", type=Path, default=Path("build/campaign"), help="output folder [build/campaign]"
+    )
+    p.add_argument(
+        "--scene",
+        type=Path,
+        help="JSON file of Scene fields (SI units) for records without a sidecar; a "
+        "sidecar or table row overrides it field by field",
+    )
+    p.add_argument(
+        "--table",
+        type=Path,
+        help="CSV with a 'file' column and per-record Scene fields (speed, angle_deg, mu, "
+        "e, ...) and an optional 'repeat' column",
+    )
+    p.add_argument("--boot", type=nonneg_int, default=200, help="bootstrap replicates [200]")
+    p.add_argument("--seed", type=nonneg_int, default=0, help="bootstrap seed [0]")
+    run = p.add_mutually_exclusive_group()
+    run.add_argument(
+        "--workers",
+        type=pos_int,
+        help="run the records on a local dask cluster of N worker processes "
+        "(needs the 'distributed' extra)",
+    )
+    run.add_argument(
+        "--scheduler",
+        metavar="ADDRESS",
+        help="run the records on an existing dask cluster, e.g. tcp://10.0.0.5:8786",
+    )
+    run.add_argument(
+        "--batched",
+        action="store_true",
+        help="analyse in this process with one vectorised bootstrap for all records",
+    )
+    p.add_argument("--no-fit", action="store_true", help="do not fit contact parameters per record")
+    p.add_argument("--no-reports", action="store_true", help="do not execute the report notebooks")
+    p.add_argument("--no-html", action="store_true", help="write the report notebooks without HTML")
+    add_progress(p)
+    p.set_defaults(func=run_campaign)
+
+
+def run_campaign(args) -> int:
+    from ..campaign import campaign, record_files, write_campaign
+
+    t0 = time.perf_counter()
+    base = read_scene(None, args.scene) if args.scene else None
+    files = record_files(args.paths)
+    options = {"n_boot": args.boot, "seed": args.seed}
+    with log_warnings(), progress_bar(args, total=len(files), desc="records") as bar:
+        ds = campaign(
+            files,
+            scenes=base,
+            table=args.table,
+            fit=not args.no_fit,
+            workers=args.workers,
+            scheduler=args.scheduler,
+            batched=args.batched,
+            progress=lambda r: bar.update(1),
+            **options,
+        )
+    with log_warnings():
+        ds.attrs["source"] = " ".join(args.paths)
+        write_campaign(ds, args.out)
+    ok = [str(r) for r in ds["record"].values[(ds["status"] == "ok").values]]
+    if not args.no_reports:
+        _reports(args, ds, {p.name: p for p in files}, ok)
+    n_ok = len(ok)
+    print(
+        f"{n_ok}/{ds.sizes['record']} records analysed in {time.perf_counter() - t0:.1f} s "
+        f"→ {args.out}/"
+    )
+    for name, status, reason in zip(
+        ds["record"].values, ds["status"].values, ds["reason"].values, strict=True
+    ):
+        if status != "ok":
+            print(f"  failed: {name}: {reason}")
+    return 0 if n_ok else 1
+
+
+def _reports(args, ds, paths: dict, ok: list) -> None:
+    """Execute the per-record reports (with the scenes the campaign used) and the
+    campaign's own, with a progress bar."""
+    import json
+
+    from ..notebook_report import NotebookError, campaign_report, record_report
+    from ..scene import Scene
+
+    reports = args.out / "reports"
+    with progress_bar(args, total=len(ok) + 1, desc="reports") as bar:
+        for name in ok:
+            scene = Scene.from_dict(json.loads(str(ds["scene_json"].sel(record=name).values)))
+            try:
+                record_report(
+                    paths[name],
+                    reports,
+                    scene=scene,
+                    n_boot=args.boot,
+                    seed=args.seed,
+                    html=not args.no_html,
+                    name=Path(name).stem,
+                )
+            except NotebookError as exc:
+                print(f"  report failed: {exc}")
+            bar.update(1)
+        campaign_report(args.out / "campaign.nc", reports, html=not args.no_html)
+        bar.update(1)

@@ -1,0 +1,55 @@
+"""``pipeline report FILE --out DIR``: execute a report notebook, headless, with HTML.
+
+FILE is a record (its fit report: ``<record>.ipynb`` and ``.html``, the scene from
+``--scene`` or the record's sidecar) or a campaign's ``campaign.nc`` (the campaign report).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from ._common import read_scene
+from ._options import nonneg_int
+
+
+def register(sub) -> None:
+    p = sub.add_parser(
+        "report",
+        help="execute the fit report of a record (or a campaign.nc) as notebook and HTML",
+        description=__doc__.split("\n\n")[1],
+    )
+    p.add_argument("file", type=Path, help="a record file, or a campaign's campaign.nc")
+    p.add_argument(
+        "--out", type=Path, default=Path("build/reports"), help="output folder [build/reports]"
+    )
+    p.add_argument(
+        "--scene",
+        type=Path,
+        help="JSON file of Scene fields (SI units); default the record's sidecar",
+    )
+    p.add_argument("--boot", type=nonneg_int, default=200, help="bootstrap replicates [200]")
+    p.add_argument("--seed", type=nonneg_int, default=0, help="bootstrap seed [0]")
+    p.add_argument("--no-html", action="store_true", help="write the notebook only")
+    p.set_defaults(func=run)
+
+
+def run(args) -> int:
+    from ..errors import InputError
+    from ..notebook_report import campaign_report, record_report
+
+    if not args.file.is_file():
+        raise InputError("no such file; check the path", path=args.file)
+    if args.file.suffix == ".nc":
+        r = campaign_report(args.file, args.out, html=not args.no_html)
+    else:
+        scene = read_scene(args.file, args.scene)
+        r = record_report(
+            args.file,
+            args.out,
+            scene=scene,
+            n_boot=args.boot,
+            seed=args.seed,
+            html=not args.no_html,
+        )
+    print(f"{r.ipynb}" + (f"\n{r.html}" if r.html else "") + f"  ({r.seconds:.1f} s)")
+    return 0

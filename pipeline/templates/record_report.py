@@ -1,0 +1,111 @@
+# ---
+# jupyter:
+#   jupytext:
+#     formats: py:percent
+#     text_representation:
+#       extension: .py
+#       format_name: percent
+#       format_version: '1.3'
+#   kernelspec:
+#     display_name: Python 3 (ipykernel)
+#     language: python
+#     name: python3
+# ---
+
+# %% [markdown]
+# # Fit report of one impact record
+#
+# Made by `pipeline report` (or `pipeline campaign`) from the template
+# `pipeline/templates/record_report.py`: every number below is computed here, by the
+# library, from the record named in the parameters cell. Run it again with other
+# parameters to report another record. Theory and conventions: the project's `docs/`
+# (Ciornei et al., MATEC Web Conf. 112, 07005, 2017, doi:10.1051/matecconf/201711207005).
+
+# %% tags=["parameters"]
+record = "data_samples/gr_15deg_0.6ms.csv"  # the record file (its sidecar beside it)
+scene_json = ""  # Scene fields as JSON (SI units); "" = the record's sidecar scene
+n_boot = 200  # bootstrap replicates for the uncertainties
+seed = 0  # bootstrap seed
+
+# %%
+# %matplotlib inline
+import json
+import warnings
+
+import pandas as pd
+from IPython.display import Markdown, display
+
+from pipeline import Scene, analyse, figures
+from pipeline.report import findings, load_sample, scene_from_sidecar
+
+rec = load_sample(record)
+scene = Scene.from_dict(json.loads(scene_json)) if scene_json else scene_from_sidecar(record)
+if scene is None:
+    raise ValueError(f"{record}: no scene; give scene_json or put a sidecar beside the record")
+with warnings.catch_warnings(record=True) as caught:
+    warnings.simplefilter("always")
+    a = analyse(rec, scene, n_boot=n_boot, seed=seed)
+display(Markdown(f"## Record `{rec.attrs['source']}`"))
+print(a.describe())
+for w in caught:
+    print(f"note: {w.category.__name__}: {w.message}")
+
+# %% [markdown]
+# ## Measured outcomes against Routh's rigid prediction
+#
+# e_n is Poisson's restitution of the measured percussions, e_t the tangential restitution
+# of the centre, ω the spin after impact, the rebound angle is measured from the normal;
+# ± is the bootstrap standard deviation (white sensor noise only: cross-talk and baseline
+# errors are not in it).
+
+# %%
+rows = []
+for k, unit in (("e_n", "-"), ("e_t", "-"), ("omega", "rad/s"), ("rebound_deg", "deg")):
+    rows.append(
+        {
+            "quantity": f"{k} [{unit}]",
+            "measured": a.outcomes.values[k],
+            "std": a.outcomes.std[k],
+        }
+    )
+display(pd.DataFrame(rows).set_index("quantity"))
+
+# %% [markdown]
+# ## Forces and their polynomial fits (as the seed's Fig. 8)
+
+# %%
+display(figures.fig8_forces(a))
+
+# %% [markdown]
+# ## Measured Pt(Pn) over the rigid broken line (as the seed's Fig. 9)
+
+# %%
+display(figures.fig9_percussion_plane(a))
+
+# %% [markdown]
+# ## The seed's three findings, tested on this record
+
+# %% tags=["findings"]
+for line in findings(a).text:
+    print(line)
+
+# %% [markdown]
+# ## Contact parameters fitted to the record
+#
+# Where the package's contact fitter is installed, the compliant model fitted to Fn and Ft
+# (values with uncertainties, and the figure of measured against model).
+
+# %% tags=["fit"]
+try:
+    from pipeline import fit_contact
+except ImportError:
+    fit_contact = None
+if fit_contact is None:
+    print("no contact fitter in this version of pipeline")
+else:
+    with warnings.catch_warnings(record=True):
+        warnings.simplefilter("always")
+        fit = fit_contact(rec, scene)
+    print(fit.report())
+    if hasattr(figures, "fit_contact"):
+        display(figures.fit_contact(fit))
