@@ -298,3 +298,21 @@ def test_dask_run_is_byte_identical_to_serial(lab, tmp_path):
     parallel.to_netcdf(b, engine="h5netcdf")
     assert a.read_bytes() == b.read_bytes()
     assert list(parallel["status"].values) == ["ok", "ok", "failed"]
+
+
+def test_batched_path_gives_the_same_values_and_comparable_spreads(lab):
+    """The batched path's values are analyse's exactly; its bootstrap draws differ, so the
+    spreads agree to their own scatter (±5 % for 200 replicates) plus the trapezoid rule's
+    few % (pipeline.campaign.batch notes)."""
+    folder, truth = lab
+    files = [folder / f for f in sorted(truth)] + [folder / "empty_data.csv"]
+    serial = campaign(files, n_boot=200, fit=False)
+    batched = campaign(files, n_boot=200, fit=False, batched=True)
+    assert list(batched["status"].values) == list(serial["status"].values)
+    ok = (serial["status"] == "ok").values
+    for k in ("e_n", "e_t", "omega", "score"):
+        np.testing.assert_array_equal(batched[k].values[ok], serial[k].values[ok])
+    for k in ("e_n_std", "e_t_std", "omega_std"):
+        ratio = batched[k].values[ok] / serial[k].values[ok]
+        assert np.all((ratio > 0.75) & (ratio < 1.25)), (k, ratio)
+    assert batched["reason"].values[-1] == serial["reason"].values[-1]

@@ -285,16 +285,22 @@ def _task_scene(task: RecordTask) -> Scene:
     return Scene.from_dict(task.scene, path=task.path)
 
 
-def _analyse_task(task: RecordTask) -> tuple[dict, dict]:
+def _analysis_of(task: RecordTask, **override) -> tuple[Analysis, dict]:
+    """The record's :class:`~pipeline.analysis.Analysis` (options overridden by
+    ``override``) and its fitted-parameter numbers (empty when not fitted)."""
     from ..report import load_sample
 
     scene = _task_scene(task)
     rec = load_sample(task.path)
-    a = analyse(rec, scene, **task.options)
+    a = analyse(rec, scene, **{**task.options, **override})
+    return a, (_fit_numbers(rec, scene) if task.fit else {})
+
+
+def _analyse_task(task: RecordTask) -> tuple[dict, dict]:
+    a, fitted = _analysis_of(task)
     numbers, texts = record_numbers(a)
+    numbers.update(fitted)
     texts["scene_source"] = task.scene_source
-    if task.fit:
-        numbers.update(_fit_numbers(rec, scene))
     return numbers, texts
 
 
