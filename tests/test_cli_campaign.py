@@ -1,0 +1,137 @@
+"""The campaign, report and export commands: every bad argument is one line on stderr and exit
+traceback; --help documents every option; the campaign and export commands write what
+they say, with progress bars on request."""
+
+from __future__ import annotations
+
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from pipeline.cli import COMMANDS, main
+
+ROOT = Path(__file__).resolve().parents[1]
+SAMPLES = ROOT / "data_samples"
+
+
+def _run(args, tmp_path):
+    """The real command in a subprocess: exit status, stdout, stderr."""
+    out = subprocess.run(
+        [sys.executable, "-m", "pipeline.cli", *args],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        timeout=300,
+        check=False,
+    )
+    return out.returncode, out.stdout, out.stderr
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["campaign", str(SAMPLES), "--workers", "x"], "argument --workers: 'x' is not a whole"),
+        (["campaign", str(SAMPLES), "--workers", "0"], "argument --workers: give a whole number"),
+        (["campaign", str(SAMPLES), "--boot", "-3"], "argument --boot: -3 is negative"),
+        (["campaign", "nowhere/*.csv"], "the pattern 'nowhere/*.csv' matches no record file"),
+        (["campaign", str(SAMPLES), "--workers", "2", "--batched"], "not allowed with"),
+        (["campaign", str(SAMPLES), "--table", "missing.csv"], "no such table file"),
+        (["export", "missing.json", "--to", "lammps"], "missing.json: no such file"),
+        (["export", str(SAMPLES / "gr_5deg_0.3ms.json"), "--to", "abaqus"], "invalid choice"),
+        (["export", str(SAMPLES / "gr_5deg_0.3ms.json")], "the following arguments are required"),
+        (["report", "missing.csv"], "missing.csv: no such file; check the path"),
+        (["campaign"], "the following arguments are required: DIR|GLOB|FILE"),
+        (["frobnicate"], "invalid choice: 'frobnicate'"),
+    ],
+)
+def test_bad_arguments_are_one_line_and_exit_2(args, message, tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    try:
+        code = main(args)
+    except SystemExit as ex:  # argparse's own errors
+        code = ex.code
+    err = capsys.readouterr().err
+    assert code == 2
+    lines = err.strip().splitlines()
+    assert len(lines) == 1, err
+    assert message in lines[0]
+    assert "Traceback" not in err
+
+
+def test_argparse_errors_exit_2(capsys):
+    with pytest.raises(SystemExit) as ex:
+        main(["campaign", str(SAMPLES), "--workers", "x"])
+    assert ex.value.code == 2
+
+
+def test_every_option_has_help():
+    """Every option of every subcommand carries a help text (argparse's own -h aside)."""
+    import argparse
+
+    parser = argparse.ArgumentParser()
+    sub = parser.add_subparsers()
+    for command in COMMANDS:
+        command.register(sub)
+    for name, p in sub.choices.items():
+        for action in p._actions:
+            if isinstance(action, argparse._HelpAction):
+                continue
+            if name in ("campaign", "report", "export"):
+                assert action.help, f"pipeline {name} {action.option_strings or action.dest}"
+
+
+def test_campaign_command_writes_dataset_figures_and_reports(tmp_path):
+    files = [str(SAMPLES / "gr_15deg_0.6ms.csv"), str(SAMPLES / "gr_45deg_0.3ms.csv")]
+    bad = tmp_path / "broken.csv"
+    bad.write_text("time [s],Fz [N]\n0,1\n")
+    code, out, err = _run(
+        ["campaign", *files, str(bad), "--out", "camp", "--boot", "20", "--progress"], tmp_path
+    )
+    assert code == 0, err
+    assert re.search(r"^2/3 records analysed in [\d.]+ s → camp/$", out, flags=re.M), out
+    assert "failed: broken.csv:" in out
+    camp = tmp_path / "camp"
+    assert (camp / "campaign.nc").is_file() and (camp / "campaign.csv").is_file()
+    assert {p.name for p in camp.glob("campaign_*.png")} >= {"campaign_outcomes.png"}
+    reports = camp / "reports"
+    assert {p.name for p in reports.iterdir()} == {
+        "gr_15deg_0.6ms.ipynb",
+        "gr_15deg_0.6ms.html",
+        "gr_45deg_0.3ms.ipynb",
+        "gr_45deg_0.3ms.html",
+        "campaign.ipynb",
+        "campaign.html",
+    }
+    assert "records: 100%" in err and "reports: 100%" in err  # tqdm bars on request
+
+
+@pytest.mark.skipif(shutil.which("lmp") is None, reason="LAMMPS (lmp) is not installed")
+def test_export_command_writes_a_script_lammps_runs(tmp_path):
+    code, out, err = _run(
+        [
+            "export",
+            str(SAMPLES / "gr_45deg_0.6ms.json"),
+            "--to",
+            "lammps",
+            "--script",
+            "--out",
+            "in.impact",
+        ],
+        tmp_path,
+    )
+    assert code == 0, err
+    assert out.strip() == "lammps input → in.impact"
+    assert "note: needs 'units si'" in err
+    run = subprocess.run(
+        ["lmp", "-in", "in.impact", "-log", "none"],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        timeout=300,
+        check=False,
+    )
+    assert "RESULT e_n 0.8" in run.stdout or "RESULT e_n 0.9" in run.stdout, run.stdout[-500:]
