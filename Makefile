@@ -37,6 +37,7 @@ test-fuzz: $(STAMP)
 
 reproduce: $(STAMP)
 	MPLCONFIGDIR=$$(mktemp -d) $(PY) -m pipeline.cli reproduce --samples data_samples --out build/reproduce
+	MPLCONFIGDIR=$$(mktemp -d) $(PY) -m pipeline.cli campaign data_samples --out build/campaign
 
 bench: $(STAMP)
 	MPLCONFIGDIR=$$(mktemp -d) $(PY) -m benchmarks --out build/bench

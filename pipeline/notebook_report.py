@@ -19,6 +19,7 @@ The notebooks stay thin: they call the library and show its figures.
 from __future__ import annotations
 
 import json
+import logging
 import subprocess
 import time
 from dataclasses import dataclass
@@ -169,7 +170,13 @@ def to_html(nb) -> str:
     """A notebook as one self-contained HTML page (figures embedded, no input prompts)."""
     nbconvert = _need("nbconvert")
     exporter = nbconvert.HTMLExporter(exclude_input_prompt=True, exclude_output_prompt=True)
-    body, _ = exporter.from_notebook_node(nb)
+    quiet = logging.getLogger("traitlets")  # nbconvert's accessibility hints are not ours
+    level = quiet.level
+    quiet.setLevel(logging.ERROR)
+    try:
+        body, _ = exporter.from_notebook_node(nb)
+    finally:
+        quiet.setLevel(level)
     return body
 
 

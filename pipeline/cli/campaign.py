@@ -108,27 +108,35 @@ def run_campaign(args) -> int:
 
 
 def _reports(args, ds, paths: dict, ok: list) -> None:
-    """Execute the per-record reports (with the scenes the campaign used) and the
-    campaign's own, with a progress bar."""
+    """Execute the per-record reports (with the scenes the campaign used; as many at once
+    as ``--workers``, each in its own kernel) and the campaign's own, with a progress bar."""
     import json
+    from concurrent.futures import ThreadPoolExecutor, as_completed
 
     from ..notebook_report import NotebookError, campaign_report, record_report
     from ..scene import Scene
 
     reports = args.out / "reports"
-    with progress_bar(args, total=len(ok) + 1, desc="reports") as bar:
-        for name in ok:
-            scene = Scene.from_dict(json.loads(str(ds["scene_json"].sel(record=name).values)))
+
+    def one(name):
+        scene = Scene.from_dict(json.loads(str(ds["scene_json"].sel(record=name).values)))
+        return record_report(
+            paths[name],
+            reports,
+            scene=scene,
+            n_boot=args.boot,
+            seed=args.seed,
+            html=not args.no_html,
+            name=Path(name).stem,
+        )
+
+    with (
+        progress_bar(args, total=len(ok) + 1, desc="reports") as bar,
+        ThreadPoolExecutor(max_workers=args.workers or 1) as pool,
+    ):
+        for job in as_completed([pool.submit(one, name) for name in ok]):
             try:
-                record_report(
-                    paths[name],
-                    reports,
-                    scene=scene,
-                    n_boot=args.boot,
-                    seed=args.seed,
-                    html=not args.no_html,
-                    name=Path(name).stem,
-                )
+                job.result()
             except NotebookError as exc:
                 print(f"  report failed: {exc}")
             bar.update(1)
