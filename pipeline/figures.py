@@ -614,6 +614,13 @@ def _kappa_inv_text(kappa):
 
 
 # ============================================================== measured records (seed Figs. 8, 9)
+def _name_record(ax, analysis) -> None:
+    """Name the record a figure shows (file name and impact) in the top axes' title."""
+    sc = analysis.scene
+    src = analysis.record.attrs.get("source", "record")
+    ax.set_title(f"{src}: {sc.speed:g} m/s at {sc.angle_deg:g}°", fontsize=7, loc="right")
+
+
 def fig8_forces(analysis) -> Figure:
     """Seed Fig. 8: the measured forces, their quartic fits and the fits' residuals.
 
@@ -698,6 +705,7 @@ def fig8_forces(analysis) -> Figure:
         )
         panel_label(ax, "(a)")
         panel_label(axr, "(b)")
+        _name_record(ax, a)
         return fig
 
 
@@ -814,8 +822,8 @@ def fig9_percussion_plane(analysis) -> Figure:
         fig.legend(loc="outside lower center", ncols=2, fontsize=6.5)
         sc = a.rigid_scene  # the μ and e the broken line was drawn with
         ax.set_title(
-            f"{sc.angle_deg:g}°, {sc.speed:g} m/s, μ = {sc.mu:.3g}, "
-            f"e = {sc.e:.3g}: {rig.regime} (rigid)",
+            f"{a.record.attrs.get('source', 'record')}: {sc.angle_deg:g}°, {sc.speed:g} m/s, "
+            f"μ = {sc.mu:.3g}, e = {sc.e:.3g}: {rig.regime} (rigid)",
             fontsize=8,
         )
         return fig

@@ -316,3 +316,48 @@ def test_batched_path_gives_the_same_values_and_comparable_spreads(lab):
         ratio = batched[k].values[ok] / serial[k].values[ok]
         assert np.all((ratio > 0.75) & (ratio < 1.25)), (k, ratio)
     assert batched["reason"].values[-1] == serial["reason"].values[-1]
+
+
+def test_campaign_figures_plot_the_data_and_name_the_campaign(result):
+    """The measured points are the Dataset's; Routh's e_t curve is 5/7 where the ball
+    sticks (Ciornei et al. 2017, eq. 7); every figure names the campaign and its counts."""
+    from pipeline.figures import campaign_figures
+
+    ds, _, _ = result
+    figs = campaign_figures(ds)
+    assert set(figs) == {
+        "campaign_outcomes.png",
+        "campaign_friction.png",
+        "campaign_restitution.png",
+        "campaign_score.png",
+    }
+    for fig in figs.values():
+        assert "5 of 9 records (4 failed)" in fig._suptitle.get_text()
+    fig = figs["campaign_outcomes.png"]
+    pts = [
+        a
+        for a in fig.findobj()
+        if str(a.get_gid()).startswith("measured-e_t-")
+        and hasattr(a, "get_marker")
+        and a.get_marker() not in ("_", "|", "None", None)
+    ]
+    xs = sorted(float(x) for a in pts for x in a.get_xdata())
+    ok = (ds["status"] == "ok").values
+    assert xs == sorted(ds["angle"].values[ok].tolist())
+    rigid = [a for a in fig.findobj() if a.get_gid() == "rigid-e_t-0.6"][0]
+    x, y = rigid.get_xdata(), rigid.get_ydata()
+    assert abs(y[np.argmin(np.abs(x - 20.0))] - 5 / 7) < 1e-12  # sticks at 20°, 0.6 m/s
+
+
+def test_record_figures_name_their_record():
+    from pipeline import analyse, figures
+    from pipeline.io import load
+    from pipeline.report import scene_from_sidecar
+
+    p = SAMPLES / "gr_45deg_0.6ms.csv"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        a = analyse(load(p), scene_from_sidecar(p), n_boot=0)
+    for fig in (figures.fig8_forces(a), figures.fig9_percussion_plane(a)):
+        titles = [t.get_text() for ax in fig.axes for t in (ax.title, ax._right_title)]
+        assert any(t.startswith("gr_45deg_0.6ms.csv: ") for t in titles), titles
