@@ -26,15 +26,13 @@ take :func:`pipeline.analyse`'s own bootstrap.
 from __future__ import annotations
 
 import dataclasses
-import warnings
 
 import numpy as np
 
 from .. import analysis as _an
 from .. import score as _score
-from ..errors import InputError, PipelineWarning
 from ..record import channel
-from .tasks import RecordResult, RecordTask, _analysis_of, record_numbers
+from .tasks import RecordResult, RecordTask, _analysis_of, guarded, result_of
 
 __all__ = ["analyse_tasks", "CHUNK"]
 
@@ -50,51 +48,49 @@ def analyse_tasks(tasks: list[RecordTask], *, progress=None) -> list[RecordResul
     :func:`~pipeline.campaign.tasks.run_record` on each task would, failures included.
     """
     results: list[RecordResult | None] = [None] * len(tasks)
-    pending = []  # (index, task, analysis, warnings)
+    pending = []  # (index, task, analysis, fitted numbers, warnings, n_boot)
     for i, task in enumerate(tasks):
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
-            n_boot = int(task.options.get("n_boot", 200))
-            try:
-                a, fitted = _analysis_of(task, n_boot=0)
-                if not _sampled_on_grid(a):
-                    a, fitted = _analysis_of(task)  # its own bootstrap
-                    n_boot = 0
-            except InputError as exc:
-                results[i] = RecordResult(task.name, "failed", str(exc))
-            except Exception as exc:  # listed, the rest goes on (as run_record does)
-                results[i] = RecordResult(task.name, "failed", f"{type(exc).__name__}: {exc}")
-        msgs = tuple(
-            f"{w.category.__name__}: {w.message}"
-            for w in caught
-            if issubclass(w.category, PipelineWarning)
-        )
-        if results[i] is not None:
-            results[i] = dataclasses.replace(results[i], warnings=msgs)
-            _tick(progress, results[i])
-        elif n_boot > 0:
+        value, failed, msgs = guarded(task, _without_bootstrap)
+        if failed is not None:
+            results[i] = failed
+            _tick(progress, failed)
+            continue
+        a, fitted, n_boot = value
+        if n_boot > 0:
             pending.append((i, task, a, fitted, msgs, n_boot))
         else:
-            results[i] = _result(task, a, fitted, msgs)
+            results[i] = result_of(task, a, fitted, msgs)
             _tick(progress, results[i])
-    for start in range(0, len(pending), CHUNK):
-        chunk = pending[start : start + CHUNK]
-        for (i, task, a, fitted, msgs, _), boot in zip(chunk, _bootstrap(chunk), strict=True):
-            results[i] = _result(task, _rescore(a, boot), fitted, msgs)
-            _tick(progress, results[i])
+        if len(pending) == CHUNK:
+            _flush(pending, results, progress)
+            pending = []
+    _flush(pending, results, progress)
     return results
+
+
+def _flush(pending, results, progress) -> None:
+    """Bootstrap a chunk of analyses together and put their results in place."""
+    if not pending:
+        return
+    for (k, t, a, fitted, msgs, _), boot in zip(pending, _bootstrap(pending), strict=True):
+        results[k] = result_of(t, _rescore(a, boot), fitted, msgs)
+        _tick(progress, results[k])
+
+
+def _without_bootstrap(task):
+    """(analysis, fitted numbers, replicates still to draw): the record analysed without
+    its bootstrap where the batch can draw it, with its own where not (digitised)."""
+    n_boot = int(task.options.get("n_boot", 200))
+    a, fitted = _analysis_of(task, n_boot=0)
+    if n_boot > 0 and not _sampled_on_grid(a):
+        a, fitted = _analysis_of(task)
+        n_boot = 0
+    return a, fitted, n_boot
 
 
 def _tick(progress, result):
     if progress is not None:
         progress(result)
-
-
-def _result(task, a, fitted, msgs) -> RecordResult:
-    numbers, texts = record_numbers(a)
-    numbers.update(fitted)
-    texts["scene_source"] = task.scene_source
-    return RecordResult(task.name, "ok", "", numbers, texts, msgs)
 
 
 def _sampled_on_grid(a) -> bool:

@@ -9,6 +9,7 @@ the task, they run the same in this process, in a dask worker or on a cluster.
 
 from __future__ import annotations
 
+import dataclasses
 import glob as _glob
 import json
 import logging
@@ -247,30 +248,43 @@ def plan(paths, *, scenes=None, table=None, fit=True, **options) -> list[RecordT
 
 
 # ------------------------------------------------------------------ one record
-def run_record(task: RecordTask) -> RecordResult:
-    """Analyse one record (a campaign task); never raises for a bad record.
+def guarded(task: RecordTask, fn):
+    """``fn(task)`` with the library's warnings collected and any failure caught.
 
-    Every failure, including an unexpected one, comes back as ``status="failed"`` with its
-    reason; warnings of the library are collected in ``warnings``.
+    Returns ``(value, None, warnings)`` on success, ``(None, failed RecordResult,
+    warnings)`` otherwise: an :class:`InputError` gives its message as the reason, any
+    other exception (a bug or a numerical failure) its type and message, logged with its
+    traceback at debug level — the record is listed and the campaign goes on.
     """
+    failed = None
+    value = None
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         try:
-            numbers, texts = _analyse_task(task)
-            result = RecordResult(task.name, "ok", "", numbers, texts)
+            value = fn(task)
         except InputError as exc:
-            result = RecordResult(task.name, "failed", str(exc))
-        except Exception as exc:  # a bug or a numerical failure: listed, the rest goes on
+            failed = RecordResult(task.name, "failed", str(exc))
+        except Exception as exc:
             log.debug("%s: %s", task.name, traceback.format_exc())
-            result = RecordResult(task.name, "failed", f"{type(exc).__name__}: {exc}")
+            failed = RecordResult(task.name, "failed", f"{type(exc).__name__}: {exc}")
     msgs = tuple(
         f"{w.category.__name__}: {w.message}"
         for w in caught
         if issubclass(w.category, PipelineWarning)
     )
-    return RecordResult(
-        result.name, result.status, result.reason, result.numbers, result.texts, msgs
-    )
+    if failed is not None:
+        failed = dataclasses.replace(failed, warnings=msgs)
+    return value, failed, msgs
+
+
+def run_record(task: RecordTask) -> RecordResult:
+    """Analyse one record (a campaign task); never raises for a bad record.
+
+    Every failure, including an unexpected one, comes back as ``status="failed"`` with its
+    reason (:func:`guarded`); warnings of the library are collected in ``warnings``.
+    """
+    value, failed, msgs = guarded(task, _analysis_of)
+    return failed if failed is not None else result_of(task, *value, msgs)
 
 
 def _task_scene(task: RecordTask) -> Scene:
@@ -296,12 +310,12 @@ def _analysis_of(task: RecordTask, **override) -> tuple[Analysis, dict]:
     return a, (_fit_numbers(rec, scene) if task.fit else {})
 
 
-def _analyse_task(task: RecordTask) -> tuple[dict, dict]:
-    a, fitted = _analysis_of(task)
+def result_of(task: RecordTask, a: Analysis, fitted: dict, msgs=()) -> RecordResult:
+    """The ``ok`` result of a task from its analysis and fitted numbers."""
     numbers, texts = record_numbers(a)
     numbers.update(fitted)
     texts["scene_source"] = task.scene_source
-    return numbers, texts
+    return RecordResult(task.name, "ok", "", numbers, texts, tuple(msgs))
 
 
 def record_numbers(a: Analysis) -> tuple[dict, dict]:
