@@ -361,3 +361,12 @@ def test_record_figures_name_their_record():
     for fig in (figures.fig8_forces(a), figures.fig9_percussion_plane(a)):
         titles = [t.get_text() for ax in fig.axes for t in (ax.title, ax._right_title)]
         assert any(t.startswith("gr_45deg_0.6ms.csv: ") for t in titles), titles
+
+
+def test_pipeline_campaign_is_callable_as_the_api_names_it():
+    """API: ``pipeline.campaign(paths, ...)`` returns the Dataset; the package's names stay."""
+    import pipeline
+
+    ds = pipeline.campaign(SAMPLES / "gr_45deg_0.3ms.csv", n_boot=0, fit=False)
+    assert list(ds["status"].values) == ["ok"]
+    assert pipeline.campaign.campaign is campaign
