@@ -5,7 +5,7 @@ sidecars) copied ``COPIES`` times into a temporary folder, each analysed with th
 bootstrap (200 replicates) and no contact fit. In one run, interleaved: the serial
 campaign, the same on a 2-worker ``LocalCluster`` (single-threaded worker processes; the
 cluster is started before the clock and its start-up time reported apart), and the
-batched path (:mod:`pipeline.campaign.batch`). Goal: dask speed-up ≥ 1.7× over serial with
+batched path (:mod:`pipeline.campaigns.batch`). Goal: dask speed-up ≥ 1.7× over serial with
 2 workers. The serial and dask Datasets are also compared byte for byte once written.
 Writes ``campaign.json`` and ``campaign.png`` into ``out_dir``.
 """
@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from pipeline._atomic import atomic_path, atomic_write_text
-from pipeline.campaign import campaign
+from pipeline.campaigns import campaign
 
 ROOT = Path(__file__).resolve().parents[1]
 COPIES = 12

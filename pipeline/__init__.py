@@ -15,6 +15,7 @@ __all__ = [
     "Scene",
     "advise",
     "analyse",
+    "campaign",
     "fit_contact",
     "fit_campaign",
     "fit_outcomes",
@@ -26,7 +27,7 @@ __all__ = [
 _SUBMODULES = {
     "advice",
     "analysis",
-    "campaign",
+    "campaigns",
     "contact",
     "errors",
     "export",
@@ -60,6 +61,8 @@ def __getattr__(name):
         return importlib.import_module(".fit.outcomes", __name__).fit_outcomes
     if name in ("fit_contact", "fit_campaign", "select_model"):
         return getattr(importlib.import_module(".fit", __name__), name)
+    if name == "campaign":
+        return importlib.import_module(".campaigns", __name__).campaign
     if name in _SUBMODULES:
         return importlib.import_module(f".{name}", __name__)
     raise AttributeError(f"module 'pipeline' has no attribute {name!r}")

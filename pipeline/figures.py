@@ -1041,7 +1041,7 @@ def campaign_outcomes(ds) -> Figure:
         ``measured-<quantity>-<speed>``); Routh's rigid prediction (dashed, gid
         ``rigid-<quantity>-<speed>``) and the compliant Hertz–Mindlin model (solid, gid
         ``compliant-<quantity>-<speed>``), both with μ from the campaign's friction law
-        and its constant e (:func:`pipeline.campaign.trends`).
+        and its constant e (:func:`pipeline.campaigns.trends`).
     """
     quantities = (
         ("e_t", r"$e_t$ [-]"),
@@ -1097,7 +1097,7 @@ def campaign_friction(ds) -> Figure:
     Figure
         μ [-] against v_t0 [m/s]: the records' μ (gid ``measured-mu``), the fitted linear
         law μ = a + b·v_t0 (gid ``law-linear``) and the constant (gid ``law-constant``)
-        from :func:`pipeline.campaign.trends`, with the fitted values in the legend.
+        from :func:`pipeline.campaigns.trends`, with the fitted values in the legend.
     """
     tr = _trends(ds).get("friction", {})
     with style():
@@ -1143,7 +1143,7 @@ def campaign_restitution(ds) -> Figure:
         e_n [-] against the approach speed v_n0 [m/s]: measured (gid ``measured-e``, 1-σ
         bars), e constant (gid ``law-constant_e``) and the Hunt–Crossley material
         constant α held fixed (gid ``law-constant_alpha``, e falls with speed), fitted by
-        :func:`pipeline.campaign.trends`; the preferred hypothesis is named in the legend.
+        :func:`pipeline.campaigns.trends`; the preferred hypothesis is named in the legend.
     """
     from .contact import cor_hunt_crossley_alpha
 

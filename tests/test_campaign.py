@@ -21,7 +21,7 @@ import pandas as pd
 import pytest
 
 from pipeline import Scene
-from pipeline.campaign import campaign, plan, record_files, table_of, trends, write_campaign
+from pipeline.campaigns import campaign, plan, record_files, table_of, trends, write_campaign
 from pipeline.errors import InputError
 from pipeline.io import write_sensor
 
@@ -303,7 +303,7 @@ def test_dask_run_is_byte_identical_to_serial(lab, tmp_path):
 def test_batched_path_gives_the_same_values_and_comparable_spreads(lab):
     """The batched path's values are analyse's exactly; its bootstrap draws differ, so the
     spreads agree to their own scatter (±5 % for 200 replicates) plus the trapezoid rule's
-    few % (pipeline.campaign.batch notes)."""
+    few % (pipeline.campaigns.batch notes)."""
     folder, truth = lab
     files = [folder / f for f in sorted(truth)] + [folder / "empty_data.csv"]
     serial = campaign(files, n_boot=200, fit=False)
@@ -364,9 +364,9 @@ def test_record_figures_name_their_record():
 
 
 def test_pipeline_campaign_is_callable_as_the_api_names_it():
-    """API: ``pipeline.campaign(paths, ...)`` returns the Dataset; the package's names stay."""
+    """API: ``pipeline.campaign(paths, ...)`` returns the Dataset (pipeline.campaigns)."""
     import pipeline
 
     ds = pipeline.campaign(SAMPLES / "gr_45deg_0.3ms.csv", n_boot=0, fit=False)
     assert list(ds["status"].values) == ["ok"]
-    assert pipeline.campaign.campaign is campaign
+    assert pipeline.campaigns.campaign is campaign

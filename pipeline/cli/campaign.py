@@ -70,7 +70,7 @@ def register(sub) -> None:
 
 
 def run_campaign(args) -> int:
-    from ..campaign import campaign, record_files, write_campaign
+    from ..campaigns import campaign, record_files, write_campaign
 
     t0 = time.perf_counter()
     base = read_scene(None, args.scene) if args.scene else None

@@ -32,7 +32,7 @@ import xarray as xr
 from IPython.display import Markdown, display
 
 from pipeline import figures
-from pipeline.campaign import table_of
+from pipeline.campaigns import table_of
 
 ds = xr.load_dataset(dataset, engine="h5netcdf")
 ok = int((ds["status"] == "ok").sum())

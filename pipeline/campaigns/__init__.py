@@ -30,7 +30,7 @@ dask.distributed cluster of N single-threaded worker processes, ``scheduler="tcp
 (or a ``distributed.Client``) on an existing cluster. Each task is a pure function of the
 record's file and scene, so the gathered Dataset is identical, byte for byte once written,
 to the serial run's. ``batched=True`` analyses the records in this process with the
-bootstrap of all records in one vectorised pass (:mod:`pipeline.campaign.batch`).
+bootstrap of all records in one vectorised pass (:mod:`pipeline.campaigns.batch`).
 
 References
 ----------
@@ -42,8 +42,6 @@ K. H. Hunt, F. R. E. Crossley, J. Appl. Mech. 42:440 (1975), doi:10.1115/1.34235
 from __future__ import annotations
 
 import inspect
-import sys
-import types
 from collections.abc import Callable
 from pathlib import Path
 
@@ -114,7 +112,7 @@ def campaign(
         Run on an existing dask cluster (``"tcp://host:8786"``) or client.
     batched : bool
         Analyse in this process with one vectorised bootstrap for all records
-        (:mod:`pipeline.campaign.batch`); not with ``workers``/``scheduler``.
+        (:mod:`pipeline.campaigns.batch`); not with ``workers``/``scheduler``.
     progress : callable, optional
         Called with each :class:`RecordResult` as it completes (the CLI's progress bar).
     **options
@@ -165,14 +163,3 @@ def _check_options(options: dict) -> None:
             f"unknown option(s) {', '.join(unknown)}; campaign passes these to analyse: "
             f"{', '.join(sorted(allowed))}"
         )
-
-
-class _CallableModule(types.ModuleType):
-    """``pipeline.campaign(...)`` calls :func:`campaign` (the public name is both this
-    package and its entry point)."""
-
-    def __call__(self, *args, **kwargs):
-        return campaign(*args, **kwargs)
-
-
-sys.modules[__name__].__class__ = _CallableModule

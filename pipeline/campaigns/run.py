@@ -1,6 +1,6 @@
 """Running campaign tasks: serially, or as dask.distributed tasks (``docs/cluster.md``).
 
-Each task is a pure function of its :class:`~pipeline.campaign.tasks.RecordTask`, so the
+Each task is a pure function of its :class:`~pipeline.campaigns.tasks.RecordTask`, so the
 results gathered from a cluster, put back in task order, equal the serial ones. Records go
 to the cluster in chunks (:data:`CHUNKS_PER_WORKER` per worker), so that a record's ~20 ms
 is not eaten by the scheduler's round trip.

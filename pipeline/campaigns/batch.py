@@ -44,8 +44,8 @@ CHUNK = 64
 def analyse_tasks(tasks: list[RecordTask], *, progress=None) -> list[RecordResult]:
     """Analyse the tasks in this process, bootstrapping all records at once (module notes).
 
-    Returns the same :class:`~pipeline.campaign.tasks.RecordResult` list as running
-    :func:`~pipeline.campaign.tasks.run_record` on each task would, failures included.
+    Returns the same :class:`~pipeline.campaigns.tasks.RecordResult` list as running
+    :func:`~pipeline.campaigns.tasks.run_record` on each task would, failures included.
     """
     results: list[RecordResult | None] = [None] * len(tasks)
     pending = []  # (index, task, analysis, fitted numbers, warnings, n_boot)
