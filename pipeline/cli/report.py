@@ -9,7 +9,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from ._common import read_scene
-from ._options import nonneg_int
+from ._options import add_progress, nonneg_int, progress_bar
 
 
 def register(sub) -> None:
@@ -30,6 +30,7 @@ def register(sub) -> None:
     p.add_argument("--boot", type=nonneg_int, default=200, help="bootstrap replicates [200]")
     p.add_argument("--seed", type=nonneg_int, default=0, help="bootstrap seed [0]")
     p.add_argument("--no-html", action="store_true", help="write the notebook only")
+    add_progress(p)
     p.set_defaults(func=run)
 
 
@@ -39,17 +40,19 @@ def run(args) -> int:
 
     if not args.file.is_file():
         raise InputError("no such file; check the path", path=args.file)
-    if args.file.suffix == ".nc":
-        r = campaign_report(args.file, args.out, html=not args.no_html)
-    else:
-        scene = read_scene(args.file, args.scene)
-        r = record_report(
-            args.file,
-            args.out,
-            scene=scene,
-            n_boot=args.boot,
-            seed=args.seed,
-            html=not args.no_html,
-        )
+    with progress_bar(args, total=1, desc="report") as bar:
+        if args.file.suffix == ".nc":
+            r = campaign_report(args.file, args.out, html=not args.no_html)
+        else:
+            scene = read_scene(args.file, args.scene)
+            r = record_report(
+                args.file,
+                args.out,
+                scene=scene,
+                n_boot=args.boot,
+                seed=args.seed,
+                html=not args.no_html,
+            )
+        bar.update(1)
     print(f"{r.ipynb}" + (f"\n{r.html}" if r.html else "") + f"  ({r.seconds:.1f} s)")
     return 0
