@@ -154,21 +154,28 @@ class Export:
 
 
 # ------------------------------------------------------------------ reading a contact
-def contact_from(obj) -> Contact:
+def contact_from(obj, *, scene=None) -> Contact:
     """A :class:`Contact` from a fit result, a Scene, a dict or a JSON file.
 
-    Accepted: a :class:`Contact`; a :class:`~pipeline.Scene` (its E*, e, μ); an object with
-    ``.values`` (a fit result: ``E_eff``, ``e``, ``mu``, ``kt_scale``) and ``.scene``; a
-    mapping or JSON file with ``"scene"`` (Scene fields) and optionally ``"values"``
-    ({name: number} or {name: {"value": number}}) overriding the scene's; a flat mapping of
-    Scene fields. A value not fitted comes from the scene.
+    Accepted: a :class:`Contact`; a :class:`~pipeline.Scene` (its E*, e, μ); a fit result
+    (:func:`pipeline.fit_contact`: ``.values`` and the scene it was fitted with); a mapping
+    or JSON file holding the values as ``"values"`` ({name: number}) or as a fit summary's
+    ``"parameters"`` ({name: {"value": number, ...}}, what ``pipeline fit --out`` writes in
+    ``fit.json``), with the scene as ``"scene"`` (Scene fields) or given as ``scene=``; or a
+    flat mapping / sidecar of Scene fields. A value not fitted comes from the scene.
+
+    Parameters
+    ----------
+    obj : Contact, Scene, fit result, mapping or path
+    scene : Scene, optional — the scene when ``obj`` does not carry one (a fit summary)
     """
     if isinstance(obj, Contact):
         return obj
     if isinstance(obj, Scene):
         return _contact(obj, {}, "scene")
-    if hasattr(obj, "values") and hasattr(obj, "scene") and not isinstance(obj, dict):
-        return _contact(obj.scene, dict(obj.values), "fit")
+    fit_scene = getattr(getattr(obj, "data", None), "scene", getattr(obj, "scene", None))
+    if hasattr(obj, "values") and fit_scene is not None and not isinstance(obj, dict):
+        return _contact(scene or fit_scene, dict(obj.values), "fit")
     path = None
     if isinstance(obj, (str, Path)):
         path = Path(obj)
@@ -182,10 +189,19 @@ def contact_from(obj) -> Contact:
         raise InputError(
             "a contact to export is a fit, a Scene or a JSON object with 'scene'", path=path
         )
-    scene_fields = obj.get("scene", {k: v for k, v in obj.items() if k != "values"})
-    scene = Scene.from_dict(scene_fields, path=path)
-    values = obj.get("values", obj.get("fit", {}).get("values", {}))
+    values = obj.get("values", obj.get("parameters", {}))
     values = {k: (v["value"] if isinstance(v, dict) else v) for k, v in values.items()}
+    if scene is None:
+        fields = obj.get("scene")
+        if fields is None and not ({"values", "parameters"} & set(obj)):
+            fields = obj  # a flat scene file
+        if fields is None:
+            raise InputError(
+                "this fit file does not hold its scene: give the scene too "
+                "(pipeline export FIT --scene scene.json)",
+                path=path,
+            )
+        scene = Scene.from_dict(fields, path=path)
     return _contact(scene, values, str(path) if path else "mapping")
 
 

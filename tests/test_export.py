@@ -158,6 +158,12 @@ def test_contact_from_fit_json_scene_and_errors(tmp_path):
     c = contact_from(f)
     assert (c.E_eff, c.mu, c.e, c.kt_scale) == (9e10, 0.2, CAP.e, 1.0)
     assert contact_from(SIDECAR).E_eff == pytest.approx(float(CAP.E_eff))
+    # a fit summary (pipeline fit --out DIR writes fit.json) holds parameters, not its scene
+    summary = tmp_path / "summary.json"
+    summary.write_text(json.dumps({"parameters": {"mu": {"value": 0.3, "vary": True}}}))
+    with pytest.raises(InputError, match="does not hold its scene: give the scene too"):
+        contact_from(summary)
+    assert contact_from(summary, scene=CAP).mu == 0.3
     (tmp_path / "bad.json").write_text("{not json")
     with pytest.raises(InputError, match=r"bad\.json: not valid JSON"):
         contact_from(tmp_path / "bad.json")

@@ -1,7 +1,8 @@
 """``pipeline export FIT --to lammps|liggghts|yade|mujoco``: the contact as simulator input.
 
-FIT is a JSON file: a fit's summary or any object with ``"scene"`` (Scene fields, SI) and
-optional ``"values"`` (``E_eff``, ``e``, ``mu``, ``kt_scale``), or a plain scene file.
+FIT is a JSON file: a fit's summary (``fit.json`` of ``pipeline fit --out``, with
+``--scene``), any object with ``"scene"`` (Scene fields, SI) and ``"values"`` (``E_eff``,
+``e``, ``mu``, ``kt_scale``), or a plain scene or sidecar file.
 Prints the target's input lines (or writes them with ``--out``), each conversion's limits
 as comments on stderr.
 """
@@ -10,6 +11,8 @@ from __future__ import annotations
 
 import sys
 from pathlib import Path
+
+from ._common import read_scene
 
 
 def register(sub) -> None:
@@ -22,6 +25,11 @@ def register(sub) -> None:
     )
     p.add_argument("fit", type=Path, metavar="FIT", help="JSON file: a fit summary or a scene")
     p.add_argument("--to", required=True, choices=TARGETS, help="the simulator to write for")
+    p.add_argument(
+        "--scene",
+        type=Path,
+        help="JSON file of Scene fields, for a fit file that does not hold its scene",
+    )
     p.add_argument("--out", type=Path, help="write the lines to this file instead of stdout")
     p.add_argument(
         "--script",
@@ -34,9 +42,10 @@ def register(sub) -> None:
 def run(args) -> int:
     from .._atomic import atomic_write_text
     from ..errors import InputError
-    from ..export import export
+    from ..export import contact_from, export
 
-    ex = export(args.fit, args.to)
+    scene = read_scene(None, args.scene) if args.scene else None
+    ex = export(contact_from(args.fit, scene=scene), args.to)
     if args.script and not ex.script:
         raise InputError(f"--script: no runnable script for {args.to}; leave --script out")
     text = ex.script if args.script else ex.text
