@@ -980,8 +980,20 @@ def _trends(ds) -> dict:
     return json.loads(ds.attrs.get("trends_json", "{}"))
 
 
-def _mu_law(tr, v_t0):
+def _joint(ds) -> dict:
+    """The campaign's joint fit (``pipeline.campaigns.joint``), {} without one."""
+    import json
+
+    return json.loads(ds.attrs.get("joint_fit_json", "{}"))
+
+
+def _mu_law(tr, v_t0, joint=None):
     f = tr.get("friction", {})
+    jv = (joint or {}).get("values", {})
+    if "mu_a" in jv and "mu_b" in jv:  # the joint fit of the forces wins
+        return np.maximum(jv["mu_a"] + jv["mu_b"] * np.asarray(v_t0), 0.0)
+    if "mu" in jv:
+        return np.full_like(np.asarray(v_t0, dtype=float), jv["mu"])
     a, b = f.get("mu_a"), f.get("mu_b")
     if a is not None and b is not None:
         return np.maximum(a + b * np.asarray(v_t0), 0.0)
@@ -991,16 +1003,21 @@ def _mu_law(tr, v_t0):
 
 def _model_curves(ds, idx, angles):
     """Rigid (Routh) and compliant (Hertz–Mindlin) outcomes against incidence for the scene
-    of record ``idx[0]``, with μ from the campaign's friction law and e constant."""
+    of record ``idx[0]``, with μ, e (and E*, kt_scale) from the campaign's joint fit where
+    there is one, else from its trends (friction law, constant e)."""
     from .rigid import sphere_on_plane
     from .simulate import impact_outcomes
 
-    tr = _trends(ds)
+    tr, jf = _trends(ds), _joint(ds)
+    jv = jf.get("values", {})
     base = _campaign_scene(ds, idx[0])
-    e = tr.get("restitution", {}).get("e_const")
+    if "E_eff" in jv and base.E is not None and base.nu is not None:
+        k = jv["E_eff"] / float(base.E_eff)
+        base = base.replace(E=base.E * k, target_E=base.target_E * k)
+    e = jv.get("e", tr.get("restitution", {}).get("e_const"))
     e = float(np.nanmean(ds["e_n"].values[idx])) if e is None else e
     v_t0 = base.speed * np.sin(np.radians(angles))
-    mu = _mu_law(tr, v_t0)
+    mu = _mu_law(tr, v_t0, jf)
     if mu is None:
         mu = np.full_like(angles, float(np.nanmean(ds["mu_rigid"].values[idx])))
     scenes = base.replace(
@@ -1041,7 +1058,8 @@ def campaign_outcomes(ds) -> Figure:
         ``measured-<quantity>-<speed>``); Routh's rigid prediction (dashed, gid
         ``rigid-<quantity>-<speed>``) and the compliant Hertz–Mindlin model (solid, gid
         ``compliant-<quantity>-<speed>``), both with μ from the campaign's friction law
-        and its constant e (:func:`pipeline.campaigns.trends`).
+        and its constant e (:func:`pipeline.campaigns.trends`), or the campaign's joint fit
+        of the forces where there is one (:mod:`pipeline.campaigns.joint`).
     """
     quantities = (
         ("e_t", r"$e_t$ [-]"),
@@ -1116,6 +1134,17 @@ def campaign_friction(ds) -> Figure:
                     color=COLORS["fit"],
                     gid="law-linear",
                     label=rf"$\mu = {a:.3f} + {b:.3f}\,v_{{t0}}$ [s/m]",
+                )
+            jv = _joint(ds).get("values", {})
+            if "mu_a" in jv and "mu_b" in jv:
+                ax.plot(
+                    xx,
+                    jv["mu_a"] + jv["mu_b"] * xx,
+                    "--",
+                    color=COLORS["sticking"],
+                    gid="law-joint",
+                    label=rf"joint fit of the forces: ${jv['mu_a']:.3f} + {jv['mu_b']:.3f}"
+                    r"\,v_{t0}$",
                 )
             c = tr.get("mu_const")
             if c is not None:

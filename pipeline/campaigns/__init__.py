@@ -14,7 +14,9 @@ one Dataset with a ``record`` dimension:
 - measured outcomes and their 1-σ bootstrap spread (``e_n``, ``e_n_std``, ...), the rigid
   prediction beside them (``e_t_rigid``, ...), the regime, the deviation score as
   ``score(record, phase, metric)`` and ``score_std``, μ estimated from the record;
-- the fitted contact parameters where available (``fit_<name>``, ``fit_<name>_std``);
+- the fitted contact parameters where available (``fit_<name>``, ``fit_<name>_std``) and
+  the joint fit of all records (:mod:`pipeline.campaigns.joint`: ``joint_<name>``,
+  ``attrs["joint_fit_json"]``);
 - the campaign's trends in ``attrs`` and as scalar variables (:func:`trends`): the friction
   law μ = a + b·v_t0 fitted to the records' μ, and the two damping hypotheses for e(v)
   (constant e; constant Hunt–Crossley material constant α, under which e falls with speed).
@@ -50,6 +52,7 @@ import xarray as xr
 from ..analysis import analyse
 from ..errors import InputError
 from .dataset import assemble, table_of, trends, with_trends, write_campaign
+from .joint import joint_fit, with_joint_fit
 from .run import run_tasks
 from .tasks import (
     FIT_PARAMETERS,
@@ -76,6 +79,8 @@ __all__ = [
     "with_trends",
     "table_of",
     "write_campaign",
+    "joint_fit",
+    "with_joint_fit",
     "OUTCOMES",
     "FIT_PARAMETERS",
 ]
@@ -145,7 +150,8 @@ def campaign(
         )
     ds = assemble(tasks, results)
     ds.attrs["source"] = _label(paths)
-    return with_trends(ds)
+    ds = with_trends(ds)
+    return with_joint_fit(ds, tasks) if fit else ds
 
 
 def _label(paths) -> str:

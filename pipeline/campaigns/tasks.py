@@ -307,7 +307,8 @@ def _analysis_of(task: RecordTask, **override) -> tuple[Analysis, dict]:
     scene = _task_scene(task)
     rec = load_sample(task.path)
     a = analyse(rec, scene, **{**task.options, **override})
-    return a, (_fit_numbers(rec, scene) if task.fit else {})
+    boot = {k: task.options[k] for k in ("n_boot", "seed") if k in task.options}
+    return a, (_fit_numbers(rec, scene, **boot) if task.fit else {})
 
 
 def result_of(task: RecordTask, a: Analysis, fitted: dict, msgs=()) -> RecordResult:
@@ -357,22 +358,24 @@ def record_numbers(a: Analysis) -> tuple[dict, dict]:
     return numbers, texts
 
 
-def _fit_numbers(record, scene) -> dict:
+def _fit_numbers(record, scene, **options) -> dict:
     """Fitted contact parameters of one record, where the fitter exists (else none).
 
-    The seam for :func:`pipeline.fit_contact` (the parameter fits): ``fit_<name>`` and
-    ``fit_<name>_std`` for the names in :data:`FIT_PARAMETERS` it reports, and
-    ``fit_redchi``.
+    :func:`pipeline.fit_contact` with its default model and the campaign's bootstrap
+    (``n_boot``, ``seed``): ``fit_<name>`` and ``fit_<name>_std`` for the names in
+    :data:`FIT_PARAMETERS` it reports, ``fit_redchi``, and ``fit_identifiable_<name>``
+    (1 or 0: μ of a contact that sticks throughout has only a lower bound).
     """
     try:
         from ..fit import fit_contact
     except ImportError:
         return {}
-    f = fit_contact(record, scene)
+    f = fit_contact(record, scene, **options)
     out = {}
     for name in FIT_PARAMETERS:
         if name in f.values:
             out[f"fit_{name}"] = float(f.values[name])
             out[f"fit_{name}_std"] = float(f.stderr.get(name, float("nan")))
+            out[f"fit_identifiable_{name}"] = float(bool(f.identifiable.get(name, True)))
     out["fit_redchi"] = float(f.redchi)
     return out

@@ -1,0 +1,88 @@
+"""The joint fit of a campaign: :func:`pipeline.fit_campaign` over the analysed records.
+
+One fit of every record's Fn and Ft with the modulus shared, friction μ = a + b·v_t0 (or
+constant) and both damping hypotheses (e constant; Hunt–Crossley α constant, e falling with
+speed), compared by AIC (Garland & Rogers 2009, doi:10.1115/1.3086432; Hunt & Crossley
+1975, doi:10.1115/1.3423596). :func:`with_joint_fit` stores the best hypothesis' values and
+standard errors as ``joint_<name>`` scalars and every hypothesis' row of
+:meth:`CampaignFit.compare` in ``attrs["joint_fit_json"]``. Where the fitter is not
+installed, or fewer than two records were analysed, the Dataset is returned unchanged.
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+import math
+
+from .._json import json_ready
+from ..errors import InputError
+from ..scene import Scene
+from .tasks import FIT_PARAMETERS
+
+__all__ = ["joint_fit", "with_joint_fit"]
+
+log = logging.getLogger(__name__)
+
+#: Units of the joint fit's parameters besides :data:`FIT_PARAMETERS`.
+_UNITS = {**FIT_PARAMETERS, "alpha": "s/m", "mu_a": "1", "mu_b": "s/m"}
+
+
+def joint_fit(tasks, ds, **options) -> dict | None:
+    """The joint fit of the ``ok`` records (module notes), as a strict-JSON dict, or None.
+
+    Parameters
+    ----------
+    tasks : list of RecordTask — the campaign's tasks, in the Dataset's order
+    ds : xarray.Dataset — the campaign (its ``status`` picks the records)
+    **options — passed to :func:`pipeline.fit_campaign` (``n_boot``, ``seed``, ...)
+    """
+    try:
+        from ..fit import fit_campaign
+    except ImportError:
+        return None
+    from ..report import load_sample
+
+    ok = [t for t, s in zip(tasks, ds["status"].values, strict=True) if s == "ok"]
+    if len(ok) < 2:
+        return None
+    records = [load_sample(t.path) for t in ok]
+    scenes = [Scene.from_dict(t.scene) for t in ok]
+    fit = fit_campaign(records, scenes, mu_law="linear_vt0", damping="constant_e", **options)
+    table = fit.compare()
+    best = table.iloc[0]
+    key = (str(best["mu_law"]), str(best["damping"]))
+    chosen = fit.hypotheses.get(key, fit)
+    return json_ready(
+        {
+            "records": [t.name for t in ok],
+            "hypothesis": {"mu_law": key[0], "damping": key[1]},
+            "values": dict(chosen.values),
+            "stderr": dict(chosen.stderr),
+            "compare": table.to_dict("records"),
+        }
+    )
+
+
+def with_joint_fit(ds, tasks, **options):
+    """``ds`` with the joint fit stored (module notes); a failed joint fit is logged and
+    noted in ``attrs["joint_fit_error"]``, the per-record results stay."""
+    try:
+        jf = joint_fit(tasks, ds, **options)
+    except InputError as exc:
+        log.warning("joint fit: %s", exc)
+        ds.attrs["joint_fit_error"] = str(exc)
+        return ds
+    if jf is None:
+        return ds
+    ds.attrs["joint_fit_json"] = json.dumps(jf, allow_nan=False, sort_keys=True)
+    for name, v in jf["values"].items():
+        if isinstance(v, (int, float)) and name in _UNITS:
+            se = jf["stderr"].get(name)
+            ds[f"joint_{name}"] = ((), float(v), {"units": _UNITS[name]})
+            ds[f"joint_{name}_std"] = (
+                (),
+                math.nan if se is None else float(se),
+                {"units": _UNITS[name]},
+            )
+    return ds
