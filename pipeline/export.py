@@ -15,15 +15,16 @@ dashpot on the *secant* stiffness: α = 2ζ with ζ calibrated exactly to e
 (:func:`pipeline.contact.calibrate_hertz_dashpot`, ``"secant"``). LAMMPS turns the number
 it reads into α with Tsuji's polynomial α(e), which is only a fit: the exported number is
 the input that makes that polynomial give the exact α (for e = 0.9 it is 0.8593; giving
-0.9 itself would rebound at e = 0.929). Tangential ``mindlin`` with k_t = 8·G*·kt_scale given
+0.9 itself would rebound at e = 0.929); the polynomial reaches e down to 0.31 (below, an
+``InputError``). Tangential ``mindlin`` with k_t = 8·G*·kt_scale given
 directly (total-displacement history, as :func:`pipeline.simulate.impact`'s default),
 tangential damping 0, Coulomb μ, ``limit_damping`` (no attractive normal force, as in the
 package's laws). Pitfalls avoided: LAMMPS 29 Sep 2021 and earlier (Debian 12's ``lmp``)
-compute a *wall's* ``hertz/material`` stiffness as (4/3)·E/(2(1−ν)) instead of
-(4/3)·E/(2(1−ν²)) and its ``mindlin NULL`` stiffness as E(2−ν)(1+ν)/4 instead of
-2E/((2−ν)(1+ν)) (``fix_wall_gran.cpp``), so a wall given by its material is 29 % too stiff
-normally and 40 % too soft tangentially for steel; and LAMMPS works in the unit system of
-its ``units`` command, so these numbers need ``units si``.
+compute a *wall's* ``hertz/material`` stiffness as (4/3)·E/(2(1−ν)) — neither the
+E/(1−ν²) of a rigid wall nor the E/(2(1−ν²)) of two like bodies — and its ``mindlin NULL``
+stiffness as E(2−ν)(1+ν)/4 instead of 8·G* (``fix_wall_gran.cpp``; as
+:mod:`pipeline.simulate.lammps` notes); giving k_n and k_t as numbers avoids both. And
+LAMMPS reads numbers in the unit system of its ``units`` command: these need ``units si``.
 
 **LIGGGHTS** (``pair_style gran model hertz tangential history``): material properties per
 atom type (Young's modulus, Poisson ratio, restitution, friction). Its damping
@@ -62,8 +63,6 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
-import numpy as np
-
 from .contact import calibrate_hertz_dashpot, hertz_impact, zeta_hertz_dashpot_dem
 from .errors import InputError
 from .scene import Scene
@@ -78,7 +77,6 @@ __all__ = [
     "to_liggghts",
     "to_yade",
     "to_mujoco",
-    "tsuji_alpha",
 ]
 
 #: Export targets, by the name ``--to`` takes.
@@ -222,19 +220,6 @@ def _contact(scene: Scene, values: dict, source: str) -> Contact:
 
 
 # ------------------------------------------------------------------ conversions
-_TSUJI = (1.2728, -4.2783, 11.087, -22.348, 27.467, -18.022, 4.8218)
-
-
-def tsuji_alpha(e):
-    """Tsuji's polynomial α(e) that LAMMPS ``damping tsuji`` applies to its input [-].
-
-    α = 1.2728 − 4.2783e + 11.087e² − 22.348e³ + 27.467e⁴ − 18.022e⁵ + 4.8218e⁶
-    (Tsuji et al. 1992, doi:10.1016/0032-5910(92)88030-L; LAMMPS ``pair_granular.cpp``).
-    """
-    e = np.asarray(e, dtype=float)
-    return sum(c * e**k for k, c in enumerate(_TSUJI))
-
-
 def _invert(fn, target, lo, hi, what):
     from scipy.optimize import brentq
 
@@ -246,11 +231,14 @@ def _invert(fn, target, lo, hi, what):
 
 def _lammps_tsuji_input(e: float) -> tuple[float, float]:
     """(number to give ``damping tsuji``, α it makes): α = 2ζ, ζ the exact secant-stiffness
-    damping ratio for e; the number is where Tsuji's polynomial reaches that α."""
-    alpha = 2.0 * float(calibrate_hertz_dashpot(e, "secant"))
+    damping ratio for e; the number is where LAMMPS's polynomial reaches that α
+    (:func:`pipeline.simulate.lammps.tsuji_cor_input`)."""
+    from .simulate.lammps import tsuji_alpha, tsuji_cor_input
+
     if e == 1.0:
         return 1.0, float(tsuji_alpha(1.0))
-    return _invert(tsuji_alpha, alpha, 0.0, 1.0, f"e = {e}"), alpha
+    alpha = 2.0 * float(calibrate_hertz_dashpot(e, "secant"))
+    return float(tsuji_cor_input(alpha)), alpha
 
 
 def _dem_restitution_input(e: float) -> tuple[float, float]:
@@ -310,9 +298,9 @@ def to_lammps(contact, *, script: bool = True, steps_per_contact: int = 4000) ->
         "needs 'units si' (the numbers are SI) and atom_style sphere with diameters, not radii",
         "normal: Hertz with a Tsuji dashpot on the secant stiffness, exact e at every speed; "
         "a Hunt-Crossley fit's e is carried, its speed dependence (if alpha was held) is not",
-        "kn and kt are given directly: older LAMMPS (29 Sep 2021 and before) mixes a wall's "
-        "hertz/material stiffness with 2(1-nu) instead of 2(1-nu^2) and its 'mindlin NULL' "
-        "stiffness wrongly; explicit numbers avoid both",
+        "kn and kt are given directly: LAMMPS 29 Sep 2021 and before compute a wall's "
+        "hertz/material stiffness with 2(1-nu) in place of 1-nu^2 (rigid wall) or "
+        "2(1-nu^2) (like bodies) and its 'mindlin NULL' stiffness wrongly; numbers avoid both",
         "tangential: Mindlin total-displacement history (LAMMPS 'mindlin'), no tangential "
         "damping; history rule and rolling/twisting resistance are not fitted",
     )
