@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import json
 import logging
+import os
 import subprocess
 import time
 from dataclasses import dataclass
@@ -224,12 +225,11 @@ def campaign_report(dataset, out_dir, *, html: bool = True) -> NotebookReport:
     dataset = Path(dataset).resolve()
     if not dataset.is_file():
         raise InputError("no such campaign file; run pipeline campaign first", path=dataset)
-    return execute(
-        TEMPLATES["campaign"],
-        {"dataset": str(dataset)},
-        Path(out_dir) / "campaign.ipynb",
-        html=html,
-    )
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    # relative to the notebook (which runs in its own folder), so the pair can move together
+    rel = os.path.relpath(dataset, out_dir.resolve())
+    return execute(TEMPLATES["campaign"], {"dataset": rel}, out_dir / "campaign.ipynb", html=html)
 
 
 def _json_scene(scene) -> dict:

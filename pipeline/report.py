@@ -442,10 +442,10 @@ def write_manifest(folder, **settings) -> Path:
     """
     folder = Path(folder)
     files = {}
-    for p in sorted(folder.iterdir()):
+    for p in sorted(folder.rglob("*")):
         if p.name == "manifest.json" or not p.is_file():
             continue
-        files[p.name] = {
+        files[p.relative_to(folder).as_posix()] = {
             "sha256": hashlib.sha256(p.read_bytes()).hexdigest(),
             "bytes": p.stat().st_size,
         }

@@ -4,6 +4,7 @@ commands write what they say, with progress bars on request."""
 
 from __future__ import annotations
 
+import json
 import re
 import shutil
 import subprocess
@@ -91,11 +92,14 @@ def test_campaign_command_writes_dataset_figures_and_reports(tmp_path):
     code, out, err = _run(
         ["campaign", *files, str(bad), "--out", "camp", "--boot", "20", "--progress"], tmp_path
     )
-    assert code == 0, err
+    assert code == 1, err  # some records failed; the rest are in the outputs
     assert re.search(r"^1/2 records analysed in [\d.]+ s → camp/$", out, flags=re.M), out
     assert "failed: broken.csv:" in out
     camp = tmp_path / "camp"
     assert (camp / "campaign.nc").is_file() and (camp / "campaign.csv").is_file()
+    manifest = json.loads((camp / "manifest.json").read_text())
+    assert "campaign.nc" in manifest["files"] and "reports/campaign.html" in manifest["files"]
+    assert not list(tmp_path.glob(".camp.*")), "the staging folder was swapped in"
     assert {p.name for p in camp.glob("campaign_*.png")} >= {"campaign_outcomes.png"}
     reports = camp / "reports"
     assert {p.name for p in reports.iterdir()} == {

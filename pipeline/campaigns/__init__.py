@@ -22,10 +22,14 @@ one Dataset with a ``record`` dimension:
   (constant e; constant Hunt–Crossley material constant α, under which e falls with speed).
 
 Where each record's scene comes from (``scene_source``), later entries winning field by
-field: ``scenes=`` (one Scene for all, a mapping from file name or stem to Scene, or a
-callable of the path), the record's JSON sidecar (``<stem>.json`` with a ``"scene"``
-object), then a row of ``table=`` (a pandas DataFrame or CSV file with a ``file`` column and
-Scene fields such as ``speed``, ``angle_deg``, ``mu``, ``e``; optional ``repeat``).
+field: ``scenes=`` (one Scene or a mapping of Scene fields for all, a mapping from file name
+or stem to Scene, or a callable of the path), the record's JSON sidecar (``<stem>.json``
+with a ``"scene"`` object), then a row of ``table=`` (a pandas DataFrame or CSV file with a
+``file`` column and Scene fields such as ``speed``, ``angle_deg``, ``mu``, ``e``; optional
+``repeat``); fields none of them gives come from the record's metadata where it states them
+with units (``# impact speed [m/s]: 0.6``). The plausibility checks
+(:func:`pipeline.plausibility.check_plausible`) run before the physics, as for ``pipeline
+analyse``.
 
 Scale-out (``docs/cluster.md``): ``workers=N`` runs the records as tasks on a local
 dask.distributed cluster of N single-threaded worker processes, ``scheduler="tcp://..."``
@@ -105,7 +109,9 @@ def campaign(
     paths : str, os.PathLike or list
         A folder, a glob (``"runs/*.csv"``), a record file, or a list of these.
     scenes : Scene, mapping or callable, optional
-        Scene(s) for records without a sidecar (module notes: where scenes come from).
+        Scene(s) for records without a sidecar (module notes: where scenes come from): a
+        Scene or a mapping of Scene fields (a base, possibly partial), a mapping of file
+        names to Scenes, or a callable of the path.
     table : pandas.DataFrame or path, optional
         Per-record scene fields and repeat numbers, keyed by a ``file`` column.
     fit : bool

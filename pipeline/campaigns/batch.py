@@ -55,11 +55,11 @@ def analyse_tasks(tasks: list[RecordTask], *, progress=None) -> list[RecordResul
             results[i] = failed
             _tick(progress, failed)
             continue
-        a, fitted, n_boot = value
+        done, n_boot = value
         if n_boot > 0:
-            pending.append((i, task, a, fitted, msgs, n_boot))
+            pending.append((i, task, done, msgs, n_boot))
         else:
-            results[i] = result_of(task, a, fitted, msgs)
+            results[i] = result_of(task, done, msgs)
             _tick(progress, results[i])
         if len(pending) == CHUNK:
             _flush(pending, results, progress)
@@ -72,20 +72,20 @@ def _flush(pending, results, progress) -> None:
     """Bootstrap a chunk of analyses together and put their results in place."""
     if not pending:
         return
-    for (k, t, a, fitted, msgs, _), boot in zip(pending, _bootstrap(pending), strict=True):
-        results[k] = result_of(t, _rescore(a, boot), fitted, msgs)
+    for (k, t, done, msgs, _), boot in zip(pending, _bootstrap(pending), strict=True):
+        done = dataclasses.replace(done, analysis=_rescore(done.analysis, boot))
+        results[k] = result_of(t, done, msgs)
         _tick(progress, results[k])
 
 
 def _without_bootstrap(task):
-    """(analysis, fitted numbers, replicates still to draw): the record analysed without
-    its bootstrap where the batch can draw it, with its own where not (digitised)."""
+    """(Analysed, replicates still to draw): the record analysed without its bootstrap
+    where the batch can draw it, with its own where not (digitised)."""
     n_boot = int(task.options.get("n_boot", 200))
-    a, fitted = _analysis_of(task, n_boot=0)
-    if n_boot > 0 and not _sampled_on_grid(a):
-        a, fitted = _analysis_of(task)
-        n_boot = 0
-    return a, fitted, n_boot
+    done = _analysis_of(task, n_boot=0)
+    if n_boot > 0 and not _sampled_on_grid(done.analysis):
+        return _analysis_of(task), 0
+    return done, n_boot
 
 
 def _tick(progress, result):
@@ -109,9 +109,9 @@ def _bootstrap(chunk) -> list[tuple]:
     """``(Pn_b, Pt_b)`` on each record's grid for a chunk of analyses, drawn and integrated
     together: noise Z (records, B, grid) per channel, zero at the grid's padded window ends
     (no sample there) and past a shorter grid's end, where zero-length steps add nothing."""
-    n_boot = max(item[5] for item in chunk)
+    n_boot = max(item[4] for item in chunk)
     rng = np.random.default_rng(int(chunk[0][1].options.get("seed", 0)))
-    grids = [item[2].percussions.time for item in chunk]
+    grids = [item[2].analysis.percussions.time for item in chunk]
     g_max = max(g.size for g in grids)
     T = np.stack([np.pad(g, (0, g_max - g.size), mode="edge") for g in grids])
     dt = np.diff(T, axis=-1)[:, None, :]
@@ -121,7 +121,7 @@ def _bootstrap(chunk) -> list[tuple]:
         mask = np.zeros((len(chunk), g_max))
         sig = np.empty(len(chunk))
         for k, item in enumerate(chunk):
-            a = item[2]
+            a = item[2].analysis
             mask[k, : grids[k].size] = np.isin(grids[k], channel(a.window.record, name)[0])
             sig[k] = _an.noise_level(a.window, a.fits, name)
         Z = rng.standard_normal((len(chunk), n_boot, g_max)) * (sig[:, None] * mask)[:, None, :]
@@ -129,7 +129,7 @@ def _bootstrap(chunk) -> list[tuple]:
         zero = np.zeros(steps.shape[:-1] + (1,))
         reps[name] = np.concatenate([zero, np.cumsum(steps, axis=-1)], axis=-1)
     for k, item in enumerate(chunk):
-        a, g = item[2], grids[k].size
+        a, g = item[2].analysis, grids[k].size
         out.append(
             (
                 a.percussions.Pn(a.source) + reps["Fn"][k, :, :g],

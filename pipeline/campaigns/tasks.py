@@ -195,6 +195,8 @@ def _scene_for(path: Path, scenes, row: dict | None) -> tuple[dict | None, str]:
     sources = []
     if isinstance(scenes, Scene):
         fields, sources = scenes.to_dict(), ["given"]
+    elif isinstance(scenes, Mapping) and scenes and set(scenes) <= set(Scene.field_names()):
+        fields, sources = dict(scenes), ["given"]  # base fields, possibly partial
     elif isinstance(scenes, Mapping):
         s = scenes.get(path.name, scenes.get(path.stem))
         if s is not None:
@@ -284,38 +286,66 @@ def run_record(task: RecordTask) -> RecordResult:
     reason (:func:`guarded`); warnings of the library are collected in ``warnings``.
     """
     value, failed, msgs = guarded(task, _analysis_of)
-    return failed if failed is not None else result_of(task, *value, msgs)
+    return failed if failed is not None else result_of(task, value, msgs)
 
 
-def _task_scene(task: RecordTask) -> Scene:
-    if task.scene is None:
+def _task_scene(task: RecordTask, record) -> tuple[Scene, str]:
+    """The record's Scene and where it came from: the task's fields, and for fields they
+    leave out, the record's metadata where it states them with units
+    (:func:`pipeline.io.scene_from_metadata`)."""
+    from ..io import scene_from_metadata
+
+    if task.scene is not None and "__error__" in task.scene:
+        raise InputError(task.scene["__error__"])
+    fields = dict(task.scene or {})
+    sources = [] if task.scene is None else [task.scene_source]
+    meta = {k: v for k, (v, _) in scene_from_metadata(record).items() if fields.get(k) is None}
+    if meta:
+        fields.update(meta)
+        sources.append("metadata")
+    missing = [k for k in ("radius", "speed") if fields.get(k) is None]
+    if fields.get("density") is None and fields.get("mass") is None:
+        missing.append("density or mass")
+    if task.scene is None and missing:
+        told = f" (its metadata gives only {', '.join(sorted(meta))})" if meta else ""
         raise InputError(
-            "no scene for this record: put a sidecar <record>.json with a 'scene' beside "
-            "it, or give scenes= / a table row (pipeline campaign --scene/--table)",
+            f"no scene for this record{told}: put a sidecar <record>.json with a 'scene' "
+            "beside it, state the impact in its metadata with units, or give scenes= / a "
+            "table row (pipeline campaign --scene/--table)",
             path=task.path,
         )
-    if "__error__" in task.scene:
-        raise InputError(task.scene["__error__"])
-    return Scene.from_dict(task.scene, path=task.path)
+    return Scene.from_dict(fields, path=task.path), "+".join(sources)
 
 
-def _analysis_of(task: RecordTask, **override) -> tuple[Analysis, dict]:
-    """The record's :class:`~pipeline.analysis.Analysis` (options overridden by
-    ``override``) and its fitted-parameter numbers (empty when not fitted)."""
+@dataclass(frozen=True, eq=False)
+class Analysed:
+    """One record analysed: the analysis, fitted numbers, where its scene came from."""
+
+    analysis: Analysis
+    fitted: dict
+    scene_source: str
+
+
+def _analysis_of(task: RecordTask, **override) -> Analysed:
+    """The record's plausibility checks against its scene, then its
+    :class:`~pipeline.analysis.Analysis` (options overridden by ``override``), as
+    ``pipeline analyse`` and ``reproduce`` run them, and its fitted parameters."""
+    from ..plausibility import check_plausible
     from ..report import load_sample
 
-    scene = _task_scene(task)
     rec = load_sample(task.path)
+    scene, source = _task_scene(task, rec)
+    check_plausible(rec, scene)
     a = analyse(rec, scene, **{**task.options, **override})
     boot = {k: task.options[k] for k in ("n_boot", "seed") if k in task.options}
-    return a, (_fit_numbers(rec, scene, **boot) if task.fit else {})
+    return Analysed(a, _fit_numbers(rec, scene, **boot) if task.fit else {}, source)
 
 
-def result_of(task: RecordTask, a: Analysis, fitted: dict, msgs=()) -> RecordResult:
-    """The ``ok`` result of a task from its analysis and fitted numbers."""
-    numbers, texts = record_numbers(a)
-    numbers.update(fitted)
-    texts["scene_source"] = task.scene_source
+def result_of(task: RecordTask, done: Analysed, msgs=()) -> RecordResult:
+    """The ``ok`` result of a task from its analysis."""
+    numbers, texts = record_numbers(done.analysis)
+    numbers.update(done.fitted)
+    texts["scene_source"] = done.scene_source
     return RecordResult(task.name, "ok", "", numbers, texts, tuple(msgs))
 
 

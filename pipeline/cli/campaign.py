@@ -3,8 +3,9 @@
 Writes ``campaign.nc`` (the Dataset of :func:`pipeline.campaign`), ``campaign.csv`` (one row
 per record), the campaign figures, and under ``reports/`` one executed fit-report notebook
 per analysed record (``<record>.ipynb`` and ``.html``) and the campaign's own
-(``campaign.ipynb``, ``.html``). A record that fails is listed with its reason; the exit
-status is 0 when at least one record was analysed, 1 when none was.
+(``campaign.ipynb``, ``.html``), and ``manifest.json``; the folder is staged and swapped in
+whole. A record that fails is listed with its reason; exit status 0 when every record was
+analysed, 1 when some failed (the rest are in the outputs), 2 for bad input.
 """
 
 from __future__ import annotations
@@ -12,7 +13,7 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
-from ._common import log_warnings, read_scene
+from ._common import EXIT_FAILED_RECORDS, log_warnings
 from ._options import add_progress, nonneg_int, pos_int, progress_bar
 
 
@@ -70,10 +71,13 @@ def register(sub) -> None:
 
 
 def run_campaign(args) -> int:
+    from .._atomic import atomic_dir
     from ..campaigns import campaign, record_files, write_campaign
+    from ..report import write_manifest
+    from ..scene import read_scene_fields
 
     t0 = time.perf_counter()
-    base = read_scene(None, args.scene) if args.scene else None
+    base = read_scene_fields(args.scene) if args.scene else None
     files = record_files(args.paths)
     options = {"n_boot": args.boot, "seed": args.seed}
     with log_warnings(), progress_bar(args, total=len(files), desc="records") as bar:
@@ -88,15 +92,16 @@ def run_campaign(args) -> int:
             progress=lambda r: bar.update(1),
             **options,
         )
-    with log_warnings():
-        ds.attrs["source"] = " ".join(args.paths)
-        write_campaign(ds, args.out)
+    ds.attrs["source"] = " ".join(args.paths)
     ok = [str(r) for r in ds["record"].values[(ds["status"] == "ok").values]]
-    if not args.no_reports:
-        _reports(args, ds, {p.name: p for p in files}, ok)
-    n_ok = len(ok)
+    # the whole folder is staged and swapped in with one rename (as pipeline reproduce)
+    with atomic_dir(args.out) as stage, log_warnings():
+        write_campaign(ds, stage)
+        if not args.no_reports:
+            _reports(args, ds, {p.name: p for p in files}, ok, stage)
+        write_manifest(stage, paths=list(args.paths), n_boot=args.boot, seed=args.seed)
     print(
-        f"{n_ok}/{ds.sizes['record']} records analysed in {time.perf_counter() - t0:.1f} s "
+        f"{len(ok)}/{ds.sizes['record']} records analysed in {time.perf_counter() - t0:.1f} s "
         f"→ {args.out}/"
     )
     for name, status, reason in zip(
@@ -104,31 +109,40 @@ def run_campaign(args) -> int:
     ):
         if status != "ok":
             print(f"  failed: {name}: {reason}")
-    return 0 if n_ok else 1
+    return EXIT_FAILED_RECORDS if len(ok) < ds.sizes["record"] else 0
 
 
-def _reports(args, ds, paths: dict, ok: list) -> None:
+def _reports(args, ds, paths: dict, ok: list, out: Path) -> None:
     """Execute the per-record reports (with the scenes the campaign used; as many at once
     as ``--workers``, each in its own kernel) and the campaign's own, with a progress bar."""
+    import asyncio
+    import contextlib
     import json
+    import threading
     from concurrent.futures import ThreadPoolExecutor, as_completed
 
     from ..notebook_report import NotebookError, campaign_report, record_report
     from ..scene import Scene
 
-    reports = args.out / "reports"
+    reports = out / "reports"
 
     def one(name):
         scene = Scene.from_dict(json.loads(str(ds["scene_json"].sel(record=name).values)))
-        return record_report(
-            paths[name],
-            reports,
-            scene=scene,
-            n_boot=args.boot,
-            seed=args.seed,
-            html=not args.no_html,
-            name=Path(name).stem,
-        )
+        try:
+            return record_report(
+                paths[name],
+                reports,
+                scene=scene,
+                n_boot=args.boot,
+                seed=args.seed,
+                html=not args.no_html,
+                name=Path(name).stem,
+            )
+        finally:
+            if threading.current_thread() is not threading.main_thread():
+                # nbclient leaves an event loop open in each thread it ran in
+                with contextlib.suppress(RuntimeError):
+                    asyncio.get_event_loop().close()
 
     with (
         progress_bar(args, total=len(ok) + 1, desc="reports") as bar,
@@ -140,5 +154,5 @@ def _reports(args, ds, paths: dict, ok: list) -> None:
             except NotebookError as exc:
                 print(f"  report failed: {exc}")
             bar.update(1)
-        campaign_report(args.out / "campaign.nc", reports, html=not args.no_html)
+        campaign_report(out / "campaign.nc", reports, html=not args.no_html)
         bar.update(1)

@@ -44,7 +44,7 @@ def run(args) -> int:
     from ..errors import InputError
     from ..export import contact_from, export
 
-    scene = read_scene(None, args.scene) if args.scene else None
+    scene = read_scene(None, args.scene)[0] if args.scene else None
     ex = export(contact_from(args.fit, scene=scene), args.to)
     if args.script and not ex.script:
         raise InputError(f"--script: no runnable script for {args.to}; leave --script out")

@@ -44,7 +44,9 @@ def run(args) -> int:
         if args.file.suffix == ".nc":
             r = campaign_report(args.file, args.out, html=not args.no_html)
         else:
-            scene = read_scene(args.file, args.scene)
+            from ..report import load_sample
+
+            scene, _ = read_scene(args.file, args.scene, load_sample(args.file))
             r = record_report(
                 args.file,
                 args.out,
