@@ -287,7 +287,8 @@ def _ingest_only(path: Path) -> dict:
 
 def check_and_analyse(record, scene: Scene, *, n_boot: int = 200, seed: int = 0, **options):
     """A record's plausibility checks against its scene, then its analysis: what
-    ``pipeline analyse`` and :func:`reproduce` run for each record.
+    ``pipeline analyse`` and :func:`reproduce` run for each record (``options``: the other
+    keyword arguments of :func:`pipeline.analyse`).
 
     Returns
     -------

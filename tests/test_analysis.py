@@ -232,7 +232,7 @@ def test_cli_analyse_prints_strict_json_and_logs_the_warnings(capsys, caplog):
 
     path = SAMPLES / "gr_15deg_0.6ms.csv"
     with caplog.at_level("WARNING", logger="pipeline"):
-        assert main(["analyse", str(path), "--boot", "0"]) == 0
+        assert main(["analyse", str(path), "--boot", "0", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)  # strict JSON: NaN or Infinity would fail
     assert out["rigid"]["regime"] == "sticking"
     # the quartics of the dense record are structured: said per channel, as a log line

@@ -29,7 +29,7 @@ def _run(capsys, *argv):
 def test_analyse_reads_the_bundled_samples_as_their_sidecars_say(capsys, name):
     """The digitised samples carry no units: the sidecar's 'load' block gives them (and
     combines wpd_Fn.csv with wpd_Ft.csv). This exited 2 before."""
-    code, out, err = _run(capsys, "analyse", SAMPLES / name, "--boot", 0)
+    code, out, err = _run(capsys, "analyse", SAMPLES / name, "--boot", 0, "--json")
     assert code == 0, err
     summary = json.loads(out)
     assert summary["plausibility"]["peak_force"]["status"] == "ok"
@@ -44,14 +44,14 @@ def test_analyse_takes_units_and_axes_on_the_command_line(tmp_path, capsys):
     scene.write_text(json.dumps(json.loads((SAMPLES / "wpd_datasets.json").read_text())["scene"]))
     code, _, err = _run(capsys, "analyse", tmp_path / "w.csv", "--scene", scene)
     assert code == 2 and "no time unit in the file" in err and err.count("\n") == 1
-    argv = ["analyse", tmp_path / "w.csv", "--scene", scene, "--boot", 0]
+    argv = ["analyse", tmp_path / "w.csv", "--scene", scene, "--boot", 0, "--json"]
     code, out, err = _run(capsys, *argv, "--time-unit", "us", "--force-unit", "N")
     assert code == 0, err
     assert json.loads(out)["plausibility"]["contact_time"]["status"] == "ok"
     # a wrong unit is caught by the plausibility check, with the unit that fits
     code, _, err = _run(capsys, *argv, "--time-unit", "ms", "--force-unit", "N")
     assert code == 2 and "fit 'us', not 'ms'" in err
-    code, out, err = _run(capsys, "analyse", MAIN, "--axes", "Fn=Fz,Ft=-Fx", "--boot", 0)
+    code, out, err = _run(capsys, "analyse", MAIN, "--axes", "Fn=Fz,Ft=-Fx", "--boot", 0, "--json")
     assert code == 0, err
     assert json.loads(out)["rigid"]["regime"] == "sticking"
 
@@ -64,7 +64,8 @@ def test_scene_fields_from_the_record_metadata(tmp_path, capsys):
     partial = {k: v for k, v in truth.items() if k not in ("speed", "angle_deg")}
     scene = tmp_path / "scene.json"
     scene.write_text(json.dumps(partial))
-    code, out, err = _run(capsys, "analyse", tmp_path / "r.csv", "--scene", scene, "--boot", 0)
+    argv = ["analyse", tmp_path / "r.csv", "--scene", scene, "--boot", 0, "--json"]
+    code, out, err = _run(capsys, *argv)
     assert code == 0, err
     summary = json.loads(out)
     assert summary["scene"]["speed"] == 0.5 and summary["scene"]["angle_deg"] == 15.0
@@ -104,7 +105,7 @@ def test_every_bad_scene_is_one_line_and_exit_2(tmp_path, capsys):
     [
         (["analyse", MAIN, "--axes", "Fn"], "is not CHANNEL=COLUMN"),
         (["analyse", MAIN, "--axes", "{bad"], "not a JSON object"),
-        (["analyse", MAIN, "--boot", "x"], "invalid int value"),
+        (["analyse", MAIN, "--boot", "x"], "'x' is not a whole number"),
         (["analyse", MAIN, "--time-unit", "fortnight"], "is not a time unit"),
         (["analyse", MAIN, "--force-unit", "kg"], "is not a force unit"),
         (["analyse", MAIN, "--axes", "Fn=Fq"], "names no column"),

@@ -137,3 +137,23 @@ def test_export_command_writes_a_script_lammps_runs(tmp_path):
         check=False,
     )
     assert "RESULT e_n 0.8" in run.stdout or "RESULT e_n 0.9" in run.stdout, run.stdout[-500:]
+
+
+def test_analyse_prints_a_readable_summary_and_writes_its_files(tmp_path, capsys):
+    """By default a person's summary — regime, measured outcomes beside Routh's, the score
+    with uncertainties, where each scene value came from — with the numbers of --json."""
+    import json as _json
+
+    rec = SAMPLES / "gr_45deg_0.3ms.csv"
+    assert main(["analyse", str(rec), "--boot", "30", "--out", str(tmp_path / "a")]) == 0
+    text = capsys.readouterr().out
+    assert main(["analyse", str(rec), "--boot", "30", "--json"]) == 0
+    summary = _json.loads(capsys.readouterr().out)
+    assert "regime (Routh): sliding" in text and summary["rigid"]["regime"] == "sliding"
+    e_t = summary["outcomes"]["e_t"]
+    assert f"{e_t['value']:.4g} ± {e_t['std']:.2g}" in text
+    assert re.search(r"^  speed +0\.3 +scene file gr_45deg_0\.3ms\.json$", text, flags=re.M)
+    assert "max_distance" in text and "±" in text
+    files = {p.name for p in (tmp_path / "a").iterdir()}
+    assert files == {"summary.json", "summary.txt", "fig8_forces.png", "fig9_percussion_plane.png"}
+    assert (tmp_path / "a" / "summary.txt").read_text().strip() == text.strip()

@@ -1,4 +1,4 @@
-"""``pipeline analyse FILE``: one record's summary."""
+"""``pipeline analyse FILE``: one record's analysis, readable by default, JSON with ``--json``."""
 
 from __future__ import annotations
 
@@ -6,23 +6,41 @@ import json
 from pathlib import Path
 
 from ._common import EXIT_CODES, add_record_options, log_warnings, read_record, read_scene
+from ._options import nonneg_int
 
 
 def register(sub) -> None:
     p = sub.add_parser(
         "analyse",
-        help="analyse one record; prints the JSON summary",
-        description="Analyse one record against Routh's rigid model and print the JSON "
-        "summary. The record is read as pipeline.io.load reads it (units, axes, the "
-        "sidecar's 'load' block); the scene comes from --scene, else the sidecar, with "
-        "fields neither gives taken from the record's metadata where it states them with "
-        "units.",
+        help="analyse one record; prints a readable summary (--json: the JSON summary)",
+        description="Analyse one record against Routh's rigid model and print what it found: "
+        "regime, measured e_n, e_t, ω and rebound angle beside the rigid prediction, μ, the "
+        "deviation score with bootstrap uncertainties, and where each scene value came from. "
+        "The record is read as pipeline.io.load reads it (units, axes, the sidecar's 'load' "
+        "block); the scene comes from --scene, else the sidecar, with fields neither gives "
+        "taken from the record's metadata where it states them with units.",
         epilog=EXIT_CODES,
     )
-    p.add_argument("file", type=Path)
+    p.add_argument("file", type=Path, help="the record file")
     p.add_argument("--scene", type=Path, help="JSON file of Scene fields (SI units), or a sidecar")
-    p.add_argument("--boot", default=200, type=int, help="bootstrap replicates")
-    p.add_argument("--seed", default=0, type=int)
+    p.add_argument("--json", action="store_true", help="print the strict-JSON summary instead")
+    p.add_argument(
+        "--out",
+        type=Path,
+        help="also write summary.json, summary.txt and the record's figures (seed Figs. 8, 9) "
+        "into this folder",
+    )
+    p.add_argument("--boot", default=200, type=nonneg_int, help="bootstrap replicates [200]")
+    p.add_argument("--seed", default=0, type=nonneg_int, help="bootstrap seed [0]")
+    p.add_argument(
+        "--degree", default=4, type=nonneg_int, help="degree of the polynomial fits [4: quartic]"
+    )
+    p.add_argument(
+        "--source",
+        default="auto",
+        choices=("auto", "simpson", "trapezoid", "fit"),
+        help="which percussions are scored: the samples (Simpson, trapezoid) or the fit",
+    )
     add_record_options(p)
     p.add_argument("--mu", type=_how, default="scene", help=_HOW_HELP.format("μ"))
     p.add_argument("--e", type=_how, default="scene", help=_HOW_HELP.format("e"))
@@ -61,10 +79,37 @@ def run(args) -> int:
             scene,
             n_boot=args.boot,
             seed=args.seed,
+            degree=args.degree,
+            source=args.source,
             mu=args.mu,
             e=args.e,
             fit_options={"sensor": sensor} if sensor else None,
         )
     out = {**a.summary(), "scene_sources": sources, "plausibility": checks.summary()}
-    print(json.dumps(out, indent=1, allow_nan=False))  # strict JSON already
+    text = _readable(a, sources, checks)
+    if args.out is not None:
+        _write(args.out, a, out, text)
+    print(json.dumps(out, indent=1, allow_nan=False) if args.json else text)
     return 0
+
+
+def _readable(a, sources: dict, checks) -> str:
+    """:meth:`pipeline.analysis.Analysis.describe` and where the scene's values came from."""
+    lines = [a.describe(), "", "scene values and where they came from:"]
+    for name, value in a.scene.to_dict().items():
+        lines.append(f"  {name:14s} {value:<12.6g} {sources.get(name, 'default')}")
+    status = {k: v.get("status") for k, v in checks.summary().items() if isinstance(v, dict)}
+    if status:
+        lines += ["", "plausibility: " + ", ".join(f"{k} {v}" for k, v in status.items())]
+    return "\n".join(lines)
+
+
+def _write(out: Path, a, summary: dict, text: str) -> None:
+    from .. import figures
+    from .._atomic import atomic_write_text
+
+    out.mkdir(parents=True, exist_ok=True)
+    atomic_write_text(out / "summary.json", json.dumps(summary, indent=1, allow_nan=False) + "\n")
+    atomic_write_text(out / "summary.txt", text + "\n")
+    figures.save(figures.fig8_forces(a), out / "fig8_forces.png")
+    figures.save(figures.fig9_percussion_plane(a), out / "fig9_percussion_plane.png")
