@@ -426,7 +426,7 @@ def reproduce(
             json.dumps(json_ready(summary), indent=1, allow_nan=False) + "\n",
         )
         text = (
-            _report_md(main, a, f, records, analyses)
+            _report_md(main, a, f, records, analyses, _provenance(samples / main))
             if a is not None
             else _failed_report_md(main, failures, records)
         )
@@ -476,17 +476,26 @@ def _failed_report_md(main, failures, records) -> str:
     return "\n".join(lines + _failure_lines(records)) + "\n"
 
 
-def _report_md(main, a: Analysis, f: Findings, records, analyses) -> str:
+def _provenance(path) -> str:
+    """What the record's sidecar says of where it came from ("" when it says nothing)."""
+    side = read_sidecar(path) if Path(path).exists() else {}
+    if side.get("synthetic"):
+        return "synthetic: made as its sidecar `" + Path(path).with_suffix(".json").name + "` says"
+    return str(side.get("note", "") or side.get("description", ""))
+
+
+def _report_md(main, a: Analysis, f: Findings, records, analyses, provenance="") -> str:
     sc, rs = a.scene, a.rigid_scene
     lines = [
         "# Rigid versus deformable: the seed's verdict, measured",
         "",
         "Ciornei et al., MATEC Web Conf. 112, 07005 (2017) fitted Garland & Rogers' 15° "
         "force record with quartics, integrated it into percussions and laid Pt(Pn) over "
-        "Routh's rigid broken line. This report does the same on the bundled "
-        f"Garland–Rogers-style record `{main}` (synthetic: see data_samples/README.md) "
-        f"— a {2e3 * sc.radius:.1f} mm ball at {sc.speed:g} m/s and {sc.angle_deg:g}°, "
-        f"μ = {sc.mu:.3f}, e = {sc.e:g} — and states each finding with numbers.",
+        f"Routh's rigid broken line. This report does the same on the record `{main}`"
+        + (f" ({provenance})" if provenance else "")
+        + f" — a {2e3 * sc.radius:.3g} mm ball at {sc.speed:g} m/s and {sc.angle_deg:g}°, "
+        f"μ = {rs.mu:.3g} (from the {a.sources.get('mu', 'scene')}), e = {rs.e:.3g} (from the "
+        f"{a.sources.get('e', 'scene')}) — and states each finding with numbers.",
         "",
         f"Rigid prediction: **{a.rigid.regime}** regime (tan α = "
         f"{math.tan(math.radians(rs.angle_deg)):.3f} vs {(1 + rs.kappa) / rs.kappa:g}·μ·(1+e) = "
@@ -514,7 +523,7 @@ def _report_md(main, a: Analysis, f: Findings, records, analyses) -> str:
         f"{a.fits.Fn.rms:.3g} N (Fn), {a.fits.Ft.rms:.3g} N (Ft)"
         + (" — flagged as structured." if (a.fits.Fn.poor or a.fits.Ft.poor) else "."),
         "",
-        "## Every sample",
+        f"## All {len(records)} records",
         "",
         "| record | regime | area | max distance | Pt drop | compression area | "
         "restitution area | e (Poisson) |",

@@ -254,6 +254,7 @@ class Scene:
         The strings ``"inf"`` and ``"-inf"`` stand for ±infinity (strict JSON has no
         infinity; :func:`pipeline._json.json_ready` writes them so). A key that is not a
         field is an error naming the closest field, so a misspelt key is never dropped.
+        ``mu`` and ``e`` left out are None (not known), not the defaults 0 and 1.
 
         Parameters
         ----------
@@ -286,7 +287,10 @@ class Scene:
         if missing:
             raise InputError(f"the scene does not give {', '.join(missing)}", path=path)
         try:
-            return cls(**{k: _from_json(v) for k, v in d.items()})
+            # μ and e a file does not give are unknown (None), not 0 and 1: the rigid model
+            # is never fed a value nobody gave (analyse takes them from the record)
+            fields = {"mu": None, "e": None, **d}
+            return cls(**{k: _from_json(v) for k, v in fields.items()})
         except InputError as exc:
             if path is None:
                 raise

@@ -157,3 +157,22 @@ def test_analyse_prints_a_readable_summary_and_writes_its_files(tmp_path, capsys
     files = {p.name for p in (tmp_path / "a").iterdir()}
     assert files == {"summary.json", "summary.txt", "fig8_forces.png", "fig9_percussion_plane.png"}
     assert (tmp_path / "a" / "summary.txt").read_text().strip() == text.strip()
+
+
+def test_report_md_describes_the_record_given(tmp_path):
+    """A lab's own record (not synthetic, μ not in its scene): report.md names it, takes μ
+    from the record and says so, and does not call it synthetic or bundled."""
+    from pipeline.report import reproduce
+
+    samples = tmp_path / "mine"
+    samples.mkdir()
+    shutil.copy(SAMPLES / "gr_30deg_0.6ms.csv", samples / "run7.csv")
+    scene = json.loads((SAMPLES / "gr_30deg_0.6ms.json").read_text())["scene"]
+    del scene["mu"]
+    (samples / "run7.json").write_text(json.dumps({"scene": scene}))
+    reproduce(samples, tmp_path / "out", main="run7.csv", n_boot=0)
+    text = (tmp_path / "out" / "report.md").read_text()
+    assert "on the record `run7.csv` — a 25.4 mm ball at 0.6 m/s and 30°" in text
+    assert re.search(r"μ = 0\.1\d+ \(from the record\), e = 0\.9 \(from the scene\)", text)
+    assert "synthetic" not in text.lower() and "bundled" not in text
+    assert "## All 1 records" in text

@@ -286,8 +286,8 @@ def test_scene_file_flat_or_sidecar(tmp_path):
     assert (
         Scene.from_file(flat)
         == Scene.from_file(side)
-        == Scene(radius=0.0127, speed=1.0, density=7800.0)
-    )
+        == Scene(radius=0.0127, speed=1.0, density=7800.0, mu=None, e=None)
+    )  # μ and e a file leaves out are unknown, not 0 and 1
     with pytest.raises(InputError, match="is a directory"):
         Scene.from_file(tmp_path)
     with pytest.raises(InputError, match="no such scene file"):
