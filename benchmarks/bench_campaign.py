@@ -4,8 +4,9 @@ A CPU-bound batch: the eight synthetic Garland–Rogers-style sample records (wi
 sidecars) copied ``COPIES`` times into a temporary folder, each analysed with the default
 bootstrap (200 replicates) and no contact fit. In one run, interleaved: the serial
 campaign, the same on a 2-worker ``LocalCluster`` (single-threaded worker processes; the
-cluster is started before the clock and its start-up time reported apart), and the
-batched path (:mod:`pipeline.campaigns.batch`). Goal: dask speed-up ≥ 1.7× over serial with
+cluster, :func:`pipeline.campaigns.run.local_cluster`, is started before the clock and its
+start-up time reported apart), and the batched path (:mod:`pipeline.campaigns.batch`).
+Goal: dask speed-up ≥ 1.7× over serial with
 2 workers. The serial and dask Datasets are also compared byte for byte once written.
 Writes ``campaign.json`` and ``campaign.png`` into ``out_dir``.
 """
@@ -27,7 +28,7 @@ from pipeline.campaigns import campaign
 
 ROOT = Path(__file__).resolve().parents[1]
 COPIES = 12
-REPEATS = 2
+REPEATS = 3
 TARGET = 1.7
 
 
@@ -49,18 +50,16 @@ def _timed(fn):
 def run(out_dir: Path) -> dict:
     import dask
     import distributed
-    from distributed import Client, LocalCluster
+    from distributed import Client
+
+    from pipeline.campaigns.run import local_cluster
 
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory() as tmp:
         folder = _folder(Path(tmp))
         n = len(list(folder.glob("*.csv")))
-        t_start, cluster = _timed(
-            lambda: LocalCluster(
-                n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
-            )
-        )
+        t_start, cluster = _timed(lambda: local_cluster(2))
         client = Client(cluster)
         try:
             campaign(folder, fit=False, scheduler=client)  # warm the workers' imports

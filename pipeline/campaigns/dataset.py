@@ -19,7 +19,7 @@ from .._json import json_ready
 from ..errors import InputError
 from ..scene import Scene
 from ..score import METRICS, PHASES
-from .tasks import FIT_PARAMETERS, OUTCOMES, RecordResult, RecordTask
+from .tasks import FIT_PARAMETERS, OUTCOMES, RecordResult, RecordTask, task_fields
 
 __all__ = ["assemble", "trends", "with_trends", "table_of", "write_campaign"]
 
@@ -65,9 +65,9 @@ def assemble(tasks: list[RecordTask], results: list[RecordResult]) -> xr.Dataset
 
     angle, speed, v_t0 = num("angle"), num("speed"), num("v_t0")
     for i, t in enumerate(tasks):  # failed records still get their coordinates if known
-        if results[i].status != "ok" and t.scene and "__error__" not in t.scene:
+        if results[i].status != "ok":
             try:
-                s = Scene.from_dict(t.scene)
+                s = Scene.from_dict(task_fields(t)[0])
                 angle[i], speed[i], v_t0[i] = s.angle_deg, s.speed, s.v_t0
             except InputError:
                 pass

@@ -47,7 +47,11 @@ def joint_fit(tasks, ds, **options) -> dict | None:
     if len(ok) < 2:
         return None
     records = [load_sample(t.path) for t in ok]
-    scenes = [Scene.from_dict(t.scene) for t in ok]
+    scenes = [
+        Scene.from_dict(json.loads(str(j)))
+        for j, s in zip(ds["scene_json"].values, ds["status"].values, strict=True)
+        if s == "ok"
+    ]
     fit = fit_campaign(records, scenes, mu_law="linear_vt0", damping="constant_e", **options)
     table = fit.compare()
     best = table.iloc[0]

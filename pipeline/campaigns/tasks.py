@@ -56,9 +56,9 @@ class RecordTask:
     Attributes
     ----------
     name : str — the record's name in the Dataset (its file name)
-    path : str — the record file (its sidecar, if any, beside it)
-    scene : dict or None — Scene fields (SI, :meth:`pipeline.Scene.to_dict`); None: none known
-    scene_source : str — where the scene came from (module notes)
+    path : str — the record file (its sidecar, if any, beside it: read by the worker)
+    given : dict or None — Scene fields given for it (``scenes=``), SI
+    row : dict or None — its row of the campaign table (Scene fields)
     repeat : int or None — the table's repeat number, None to number them automatically
     options : dict — keyword arguments of :func:`pipeline.analyse`
     fit : bool — also fit the contact parameters (where :func:`pipeline.fit_contact` exists)
@@ -66,8 +66,8 @@ class RecordTask:
 
     name: str
     path: str
-    scene: dict | None
-    scene_source: str
+    given: dict | None = None
+    row: dict | None = None
     repeat: int | None = None
     options: dict = field(default_factory=dict)
     fit: bool = True
@@ -187,39 +187,43 @@ def _missing(v) -> bool:
     return v is None or (isinstance(v, float) and math.isnan(v))
 
 
-def _scene_for(path: Path, scenes, row: dict | None) -> tuple[dict | None, str]:
-    """The Scene fields of a record and where they came from (module notes)."""
-    from ..report import read_sidecar
-
-    fields: dict = {}
-    sources = []
+def _given(path: Path, scenes) -> dict | None:
+    """The Scene fields ``scenes=`` gives for a record (module notes), None if none."""
+    if scenes is None:
+        return None
     if isinstance(scenes, Scene):
-        fields, sources = scenes.to_dict(), ["given"]
-    elif isinstance(scenes, Mapping) and scenes and set(scenes) <= set(Scene.field_names()):
-        fields, sources = dict(scenes), ["given"]  # base fields, possibly partial
-    elif isinstance(scenes, Mapping):
+        return scenes.to_dict()
+    if isinstance(scenes, Mapping) and scenes and set(scenes) <= set(Scene.field_names()):
+        return dict(scenes)  # base fields, possibly partial
+    if isinstance(scenes, Mapping):
         s = scenes.get(path.name, scenes.get(path.stem))
-        if s is not None:
-            fields = s.to_dict() if isinstance(s, Scene) else dict(s)
-            sources = ["given"]
     elif callable(scenes):
         s = scenes(path)
-        if s is not None:
-            fields = s.to_dict() if isinstance(s, Scene) else dict(s)
-            sources = ["given"]
-    elif scenes is not None:
+    else:
         raise InputError("scenes= takes a Scene, a mapping of file names to Scenes, or a callable")
-    side = read_sidecar(path).get("scene")
+    if s is None:
+        return None
+    return s.to_dict() if isinstance(s, Scene) else dict(s)
+
+
+def task_fields(task: RecordTask) -> tuple[dict, list]:
+    """The Scene fields of a task and where they came from, later ones winning field by
+    field: given (``scenes=``), the record's sidecar, its table row (module notes)."""
+    from ..report import read_sidecar, sidecar_path
+
+    fields, sources = {}, []
+    if task.given:
+        fields.update(task.given)
+        sources.append("given")
+    side = read_sidecar(task.path).get("scene")
     if side is not None:
-        Scene.from_dict(side, path=path.with_suffix(".json"))  # its own errors, named
+        Scene.from_dict(side, path=sidecar_path(task.path))  # its own errors, named
         fields.update(side)
         sources.append("sidecar")
-    if row:
-        fields.update({k: v for k, v in row.items() if k != "repeat"})
+    if task.row:
+        fields.update(task.row)
         sources.append("table")
-    if not fields:
-        return None, "none"
-    return fields, "+".join(sources)
+    return fields, sources
 
 
 def plan(paths, *, scenes=None, table=None, fit=True, **options) -> list[RecordTask]:
@@ -227,7 +231,8 @@ def plan(paths, *, scenes=None, table=None, fit=True, **options) -> list[RecordT
 
     Parameters are those of :func:`campaign`. Fails early (``InputError``) on what makes the
     whole campaign impossible (no records, an unreadable table, a table row naming no
-    record); a record whose scene is missing or invalid becomes a task that fails alone.
+    record); sidecars are read by the tasks themselves (in parallel on a cluster), so a
+    record whose scene is missing or invalid fails alone.
     """
     files = record_files(paths)
     rows = _read_table(table)
@@ -239,13 +244,10 @@ def plan(paths, *, scenes=None, table=None, fit=True, **options) -> list[RecordT
         )
     tasks = []
     for p in files:
-        row = rows.get(p.name, rows.get(p.stem))
-        try:
-            scene, source = _scene_for(p, scenes, row)
-        except InputError as exc:
-            scene, source = {"__error__": str(exc)}, "invalid"
-        repeat = None if not row or "repeat" not in row else int(row["repeat"])
-        tasks.append(RecordTask(p.name, str(p), scene, source, repeat, dict(options), fit))
+        row = dict(rows.get(p.name, rows.get(p.stem)) or {})
+        repeat = int(row.pop("repeat")) if "repeat" in row else None
+        given = _given(p, scenes)
+        tasks.append(RecordTask(p.name, str(p), given, row or None, repeat, dict(options), fit))
     return tasks
 
 
@@ -290,15 +292,12 @@ def run_record(task: RecordTask) -> RecordResult:
 
 
 def _task_scene(task: RecordTask, record) -> tuple[Scene, str]:
-    """The record's Scene and where it came from: the task's fields, and for fields they
+    """The record's Scene and where it came from: :func:`task_fields`, and for fields they
     leave out, the record's metadata where it states them with units
     (:func:`pipeline.io.scene_from_metadata`)."""
     from ..io import scene_from_metadata
 
-    if task.scene is not None and "__error__" in task.scene:
-        raise InputError(task.scene["__error__"])
-    fields = dict(task.scene or {})
-    sources = [] if task.scene is None else [task.scene_source]
+    fields, sources = task_fields(task)
     meta = {k: v for k, (v, _) in scene_from_metadata(record).items() if fields.get(k) is None}
     if meta:
         fields.update(meta)
@@ -306,7 +305,7 @@ def _task_scene(task: RecordTask, record) -> tuple[Scene, str]:
     missing = [k for k in ("radius", "speed") if fields.get(k) is None]
     if fields.get("density") is None and fields.get("mass") is None:
         missing.append("density or mass")
-    if task.scene is None and missing:
+    if missing and sources in ([], ["metadata"]):
         told = f" (its metadata gives only {', '.join(sorted(meta))})" if meta else ""
         raise InputError(
             f"no scene for this record{told}: put a sidecar <record>.json with a 'scene' "
