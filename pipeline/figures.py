@@ -954,7 +954,9 @@ def _campaign_title(fig, ds, what: str) -> None:
     """Name the campaign and its records on a figure (every figure names its data)."""
     ok = int((ds["status"] == "ok").sum())
     n = int(ds.sizes["record"])
-    label = ds.attrs.get("source", "campaign")
+    import textwrap
+
+    label = textwrap.shorten(str(ds.attrs.get("source", "campaign")), 60, placeholder=" …")
     fig.suptitle(
         f"{what} — {label}: {ok} of {n} records" + (f" ({n - ok} failed)" if ok < n else ""),
         fontsize=8,
@@ -1158,7 +1160,7 @@ def campaign_friction(ds) -> Figure:
         ax.set_xlabel(r"initial tangential speed $v_{t0}$ [m/s]")
         ax.set_ylabel(r"$\mu$ from the record [-]")
         ax.set_xlim(left=0.0)
-        ax.legend(loc="best")
+        fig.legend(loc="outside lower center", ncols=2, fontsize=6.5)
         _campaign_title(fig, ds, "Friction")
         return fig
 
@@ -1215,7 +1217,7 @@ def campaign_restitution(ds) -> Figure:
             )
         ax.set_xlabel(r"approach speed $v_{n0}$ [m/s]")
         ax.set_ylabel(r"$e_n$ (Poisson) [-]")
-        ax.legend(loc="best")
+        fig.legend(loc="outside lower center", ncols=2, fontsize=6.5)
         _campaign_title(fig, ds, "Restitution")
         return fig
 
@@ -1255,9 +1257,9 @@ def campaign_score(ds) -> Figure:
             )
         ax.axhline(NEAR_ZERO, ls=":", color=COLORS["construction"], gid="near-zero")
         ax.set_xlabel(r"incidence $\alpha$ [deg]")
-        ax.set_ylabel("max. distance from the rigid line [-]")
+        ax.set_ylabel("max. distance from rigid line [-]")
         ax.set_ylim(bottom=0.0)
-        ax.legend(loc="best")
+        fig.legend(loc="outside lower center", ncols=2, fontsize=6.5)
         _campaign_title(fig, ds, "Deviation from rigid theory")
         return fig
 

@@ -163,8 +163,9 @@ def campaign(
 def _label(paths) -> str:
     """How the campaign's records were named (for titles): the folder, glob or files."""
     items = [paths] if isinstance(paths, (str, Path)) else list(paths)
-    text = ", ".join(str(p) for p in items[:3])
-    return text + (f" and {len(items) - 3} more" if len(items) > 3 else "")
+    if len(items) == 1:
+        return str(items[0])
+    return f"{items[0]} and {len(items) - 1} more"
 
 
 def _check_options(options: dict) -> None:
