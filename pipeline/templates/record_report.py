@@ -105,7 +105,7 @@ if fit_contact is None:
 else:
     with warnings.catch_warnings(record=True):
         warnings.simplefilter("always")
-        fit = fit_contact(rec, scene)
+        fit = fit_contact(rec, scene, n_boot=n_boot, seed=seed)
     print(fit.report())
-    if hasattr(figures, "fit_contact"):
-        display(figures.fit_contact(fit))
+    if hasattr(figures, "fig_contact_fit"):
+        display(figures.fig_contact_fit(fit))
