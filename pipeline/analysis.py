@@ -543,8 +543,6 @@ def _outcomes(scene, perc, split, source, boot) -> Outcomes:
     return Outcomes({k: float(v) for k, v in values.items()}, std)
 
 
-
-
 def _wants_fit(how, from_scene, scene) -> bool:
     """Whether μ or e is to come from a contact fit (see :func:`analyse`)."""
     if isinstance(how, str) and how == "fit":

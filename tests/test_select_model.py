@@ -144,7 +144,7 @@ def test_cli_fit_prints_a_report_and_writes_outputs(capsys, tmp_path):
 def test_cli_analyse_mu_and_e(capsys):
     from pipeline.cli import main
 
-    assert main(["analyse", str(MAIN), "--boot", "0", "--mu", "0.2", "--e", "0.8"]) == 0
+    assert main(["analyse", str(MAIN), "--boot", "0", "--mu", "0.2", "--e", "0.8", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["rigid_scene"]["mu"] == 0.2 and out["rigid_scene"]["e"] == 0.8
     assert out["rigid_scene_sources"] == {"mu": "given", "e": "given"}

@@ -14,9 +14,10 @@ from __future__ import annotations
 import json
 import logging
 import math
+import warnings
 
 from .._json import json_ready
-from ..errors import InputError
+from ..errors import InputError, PipelineWarning
 from ..scene import Scene
 from .tasks import FIT_PARAMETERS
 
@@ -70,13 +71,24 @@ def joint_fit(tasks, ds, **options) -> dict | None:
 
 def with_joint_fit(ds, tasks, **options):
     """``ds`` with the joint fit stored (module notes); a failed joint fit is logged and
-    noted in ``attrs["joint_fit_error"]``, the per-record results stay."""
-    try:
-        jf = joint_fit(tasks, ds, **options)
-    except InputError as exc:
-        log.warning("joint fit: %s", exc)
-        ds.attrs["joint_fit_error"] = str(exc)
-        return ds
+    noted in ``attrs["joint_fit_error"]``, its warnings (a poor fit) in
+    ``attrs["joint_fit_warnings"]``; the per-record results stay."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            jf = joint_fit(tasks, ds, **options)
+        except Exception as exc:  # the per-record results stand without it
+            log.warning("joint fit: %s", exc)
+            reason = str(exc) if isinstance(exc, InputError) else f"{type(exc).__name__}: {exc}"
+            ds.attrs["joint_fit_error"] = reason
+            jf = None
+    msgs = [
+        f"{w.category.__name__}: {w.message}"
+        for w in caught
+        if issubclass(w.category, PipelineWarning)
+    ]
+    if msgs:
+        ds.attrs["joint_fit_warnings"] = "\n".join(msgs)
     if jf is None:
         return ds
     ds.attrs["joint_fit_json"] = json.dumps(jf, allow_nan=False, sort_keys=True)
