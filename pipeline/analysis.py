@@ -351,7 +351,7 @@ def estimate_mu(window, t_c: float, *, level: float = 0.3, band: float = 0.1) ->
     """Friction coefficient from the record: Ft/Fn where the ball slides in compression [-].
 
     While the contact slides, Coulomb's law holds with equality, Ft/Fn = μ; once it sticks
-    (the sticking regime, after corner A — often early in compression, PHYSICS.md §3) or
+    (the sticking regime, after corner A — often early in compression, docs/theory.md) or
     micro-slips, Ft/Fn < μ. So μ is the upper plateau of the ratio: over the samples before
     maximum compression ``t_c`` [s] where Fn exceeds ``level`` of its peak, the median of the
     ratios within ``band`` (relative) of their 95th percentile. For a record that slides

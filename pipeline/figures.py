@@ -176,7 +176,7 @@ def panel_label(ax, text, *, x=-0.02, y=1.02):
 def default_scenes() -> dict:
     """The illustrative scenes the figures use when none is given.
 
-    A 25.4 mm steel ball (67 g, PHYSICS.md §5 size) at 1 m/s, e = 0.5, on a plane tilted
+    A 25.4 mm steel ball (67 g, as data_samples/README.md) at 1 m/s, e = 0.5, on a plane tilted
     65° (fig. 4; μ = 0.2 slides throughout, μ = 0.7 sticks in compression) and dropped on a
     disc, e = 0.8, μ = 0.15 (fig. 6).
     """

@@ -1,6 +1,6 @@
 r"""Percussions, the instant of maximum compression and the coefficients of restitution.
 
-The percussions (seed eq. 3; PHYSICS.md §1) are the running impulses of the contact forces,
+The percussions (seed eq. 3; docs/theory.md) are the running impulses of the contact forces,
 
 .. math::
 
@@ -19,7 +19,7 @@ at zero force). :attr:`Percussions.disagreement_n` is the largest spread of the 
 
     v_n(t) = v_{n0} - P_n(t)/m^*
 
-vanishes, i.e. :math:`P_n(t_c) = m^* v_{n0}` (PHYSICS.md §2), when the scene gives the
+vanishes, i.e. :math:`P_n(t_c) = m^* v_{n0}` (docs/theory.md), when the scene gives the
 effective mass and the approach speed (``method="momentum"``). Without them the approach
 obtained by integrating :math:`F_n/m^*` twice,
 :math:`\delta(t) = v_{n0}(t - t_s) - \frac{1}{m^*}\int_{t_s}^{t} P_n\,dt'`, still fixes the
@@ -41,7 +41,7 @@ peaks before maximum compression — and warns. ``method="auto"`` (default) uses
 otherwise ``closure`` (with a :class:`~pipeline.errors.PipelineWarning` when the record's
 impulse falls short of :math:`m^* v_{n0}`, i.e. contradicts the scene).
 
-**Coefficients of restitution** (seed eqs. 1–2; PHYSICS.md §2):
+**Coefficients of restitution** (seed eqs. 1–2; docs/theory.md):
 
 - Poisson (:func:`restitution_poisson`): :math:`e_P = (P_{nf} - P_{nc})/P_{nc}`;
 - Newton (:func:`restitution_newton`), when :math:`m^*` and :math:`v_{n0}` are given:
@@ -53,7 +53,7 @@ impulse falls short of :math:`m^* v_{n0}`, i.e. contradicts the scene).
   :math:`v_n = 0`.
 
 For a sphere on a plane (contact normal through the centre of mass) the three coincide
-(PHYSICS.md §2); they differ here only if the split is not at :math:`v_n = 0`.
+(docs/theory.md); they differ here only if the split is not at :math:`v_n = 0`.
 
 **What the record can resolve** (:func:`resolution`). Every way of computing percussions
 above fails, silently, once the record itself is too coarse; the stability maps

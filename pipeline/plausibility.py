@@ -14,7 +14,7 @@ normal impulse Pn  :math:`m^* v_{n0}`                          0.8 … 2.3 (e �
                                                                gives 1 … 2)
 =================  ==========================================  ============================
 
-with (Johnson 1985, §11.4; PHYSICS.md §4)
+with (Johnson 1985, §11.4; docs/theory.md)
 
 .. math::
 

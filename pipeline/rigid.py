@@ -1,6 +1,6 @@
 r"""Rigid-body impact with friction: Routh's plane of percussions, closed form.
 
-Theory (PHYSICS.md §1–§3; seed paper §2–3, eqs. 4–7; Wang & Mason 1992). The impact is
+Theory (docs/theory.md; seed paper §2–3, eqs. 4–7; Wang & Mason 1992). The impact is
 followed in the plane of percussions (P_t horizontal, P_n vertical); the normal
 percussion :math:`P_n` grows monotonically and the characteristic point moves along
 straight lines, so everything is closed form (no ODE).
@@ -27,7 +27,7 @@ throughout iff :math:`\mu \le \tan\beta` with (seed eq. 6, generalised from
     \frac{2\tan\alpha}{7(1+e)} .
 
 **General planar body** (:func:`planar_impact`). With the inverse-mass matrix ``W`` at the
-contact (PHYSICS.md §3), the contact velocities are linear in the percussions:
+contact (docs/theory.md), the contact velocities are linear in the percussions:
 :math:`s = v_{t0} - W_{tt}P_t + W_{tn}P_n`, :math:`v_n = -v_{n0} - W_{nt}P_t + W_{nn}P_n`.
 The path is forward sliding along LF until slip stops, then either sticking (along S,
 slope :math:`W_{tn}/W_{tt}`, if :math:`|W_{tn}| \le \mu W_{tt}`) or reverse sliding
@@ -103,7 +103,7 @@ def _out(x):
 class SphereOnPlane:
     """Rigid-body outcome of a sphere striking a plane (Routh's construction).
 
-    All percussions follow PHYSICS.md §1: ``Pt > 0`` opposes the INITIAL slip of the
+    All percussions follow docs/theory.md: ``Pt > 0`` opposes the INITIAL slip of the
     contact point, so ``Pt_f ≥ 0`` whatever the sign of the slip. For an array of scenes
     every attribute is an array of the broadcast shape (``vertices`` gains two axes).
 
@@ -122,7 +122,7 @@ class SphereOnPlane:
     phi : float — friction angle atan μ [rad], measured from the Pn axis
     e_t : float — tangential restitution of the centre, v_t/v_t0 [-] (NaN where v_t0 = 0)
     omega : float — ball's spin after impact [rad/s], positive in the sense that Pt > 0
-        produces (API.md; PHYSICS.md §1), i.e. on the axis of the initial slip, as
+        produces (docs/theory.md), i.e. on the axis of the initial slip, as
         :func:`pipeline.simulate.impact` reports it. ``omega_scene`` gives it on the scene's
         own tangential axis (the axis of ``Scene.spin``); the two differ in sign only when
         the initial slip is negative (``t_sign = −1``).
@@ -237,7 +237,7 @@ def sphere_on_plane(scene: Scene, *, target_kappa=None) -> SphereOnPlane:
 
     Notes
     -----
-    Slip of the contact point (PHYSICS.md §1): :math:`s_0 = v_{t0} - \\omega_0 R` with
+    Slip of the contact point (docs/theory.md): :math:`s_0 = v_{t0} - \\omega_0 R` with
     :math:`v_{t0} = v\\sin\\alpha - u`. The regime logic runs on :math:`|s_0|` and the signs
     are restored afterwards: with :math:`\\sigma = \\operatorname{sign}(s_0)`,
 
@@ -359,7 +359,7 @@ def sphere_on_plane(scene: Scene, *, target_kappa=None) -> SphereOnPlane:
 
 # ============================================================== general planar body
 def inverse_mass_matrix(m, I, r_t, r_n):  # noqa: E741
-    """Inverse-mass matrix W at a contact point of a planar rigid body (PHYSICS.md §3).
+    """Inverse-mass matrix W at a contact point of a planar rigid body (docs/theory.md).
 
     Parameters
     ----------
@@ -457,7 +457,7 @@ def slender_rod_contact(m, L, angle, v_G, omega=0.0, *, lean=+1) -> RodContact:
 class PlanarImpact:
     """Outcome of a planar rigid-body impact with Coulomb friction (closed form).
 
-    Percussions follow API.md: ``Pt > 0`` opposes the initial slip (for zero initial slip,
+    Percussions follow docs/theory.md: ``Pt > 0`` opposes the initial slip (for zero initial slip,
     the slip that develops). Velocities are reported on the caller's axes.
 
     Attributes
@@ -516,7 +516,7 @@ def planar_impact(W, v_t0, v_n0, mu, e, law="poisson") -> PlanarImpact:
     W : array_like, shape (2, 2) or (..., 2, 2)
         Inverse-mass matrix at the contact in (t, n) order [1/kg], symmetric positive
         definite; maps the physical impulse (−Pt, Pn) to the change of contact velocity
-        (API.md). See :func:`inverse_mass_matrix`.
+        (docs/theory.md). See :func:`inverse_mass_matrix`.
     v_t0 : float or array
         Initial slip of the contact point along t [m/s]; t points along the initial slip
         (v_t0 ≥ 0). A negative v_t0 is accepted: the t axis is flipped internally.
@@ -540,7 +540,7 @@ def planar_impact(W, v_t0, v_n0, mu, e, law="poisson") -> PlanarImpact:
     EnergyGainWarning
         Where the end point raises the kinetic energy (``energy_gain``): Newton's law when
         the slip stops or reverses with the contact normal off the centre of mass (Kane's
-        paradox; the slender rod of PHYSICS.md §3). The numbers are the law's, not
+        paradox; Wang & Mason's slender rod). The numbers are the law's, not
         physics: use ``law="energetic"`` (Stronge), which never creates energy.
 
     Notes

@@ -2,7 +2,7 @@ r"""The scene: one impact of a ball on a target, in SI units.
 
 A :class:`Scene` carries everything the rigid and compliant models need: the ball's
 geometry, mass and elastic constants, the target's, the impact speed and angle, friction
-and restitution. Effective (two-body) properties follow PHYSICS.md §4:
+and restitution. Effective (two-body) properties follow docs/theory.md:
 
 .. math::
 
@@ -11,7 +11,7 @@ and restitution. Effective (two-body) properties follow PHYSICS.md §4:
     \frac{1}{R^*} = \frac{1}{R_1} + \frac{1}{R_2}, \quad
     \frac{1}{m^*} = \frac{1}{m_1} + \frac{1}{m_2}
 
-and the approach and slip speeds follow PHYSICS.md §1:
+and the approach and slip speeds follow docs/theory.md:
 :math:`v_{n0} = v\cos\alpha`, :math:`v_{t0} = v\sin\alpha - u` (``u`` the target's
 surface speed along the slip direction).
 
@@ -229,7 +229,7 @@ class Scene:
 
     @property
     def slip0(self):
-        """Initial slip of the contact point, v_t0 − spin·R [m/s] (PHYSICS.md §1)."""
+        """Initial slip of the contact point, v_t0 − spin·R [m/s] (docs/theory.md)."""
         return self.v_t0 - self.spin * self.radius
 
     # ----------------------------------------------------------------- helpers

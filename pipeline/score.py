@@ -45,7 +45,7 @@ Metrics (each also split into the compression phase, Pn ≤ Pn_c, and restitutio
     Height :math:`\max P_t / P_{t,ref}` of the measured tangential percussion, where it
     peaks (:math:`P_n / P_{ref}` there) and how far it falls after the peak,
     :math:`(\max P_t - P_t(t_e))/P_{t,ref}`. A rigid ball never lets Pt fall
-    (PHYSICS.md §3), so ``Pt_drop > 0`` is the signature of tangential compliance.
+    (docs/theory.md), so ``Pt_drop > 0`` is the signature of tangential compliance.
 
 Uncertainties (:func:`deviation_score` with ``boot=``): the metrics are recomputed on
 seeded bootstrap replicates of the percussions and the standard deviation over the

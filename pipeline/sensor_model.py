@@ -2,7 +2,7 @@ r"""Sensor model: an ideal force record → what a tri-axial piezo rig would exp
 
 The simulator (:mod:`pipeline.simulate`) produces *ideal* records: the exact contact
 force, densely sampled, zero outside the contact. A laboratory record of the same impact
-(Garland & Rogers' pendulum rig, PHYSICS.md §5: a spherical target cap on a tri-axial
+(Garland & Rogers' pendulum rig, docs/theory.md: a spherical target cap on a tri-axial
 piezoelectric force transducer) differs from it in the ways :func:`to_sensor` models, in
 the order the signal meets them on its way through the hardware:
 
@@ -59,7 +59,7 @@ from .scene import Scene
 
 __all__ = ["to_sensor", "butterworth_sos", "SENSOR_DEFAULTS", "SensorSaturationWarning"]
 
-#: Defaults of :func:`to_sensor`, plausible for the Garland–Rogers rig (PHYSICS.md §5).
+#: Defaults of :func:`to_sensor`, plausible for the Garland–Rogers rig (docs/theory.md).
 SENSOR_DEFAULTS = {
     "rate": 2.0e6,  # [Hz] ~200 samples over a 100 µs contact
     "noise": 2.0,  # [N rms] ~0.15–0.3 % of a 0.6–1.4 kN peak

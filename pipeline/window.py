@@ -1,7 +1,7 @@
 r"""Contact window: where the impact starts and ends in a record, and the baseline removed.
 
 A force sensor exports more than the contact: pre- and post-trigger samples, an offset, a
-slow drift and white noise (PHYSICS.md §5). This stage finds the contact, removes a linear
+slow drift and white noise (docs/theory.md). This stage finds the contact, removes a linear
 baseline from every force channel and reports the noise it measured.
 
 Sensor records (``kind="sensor"``), per :func:`find_contact`:

@@ -1,6 +1,6 @@
 r"""Compliant contact: Hertz, damped normal laws and Mindlin tangential compliance.
 
-Theory (PHYSICS.md §4; Johnson, *Contact Mechanics*, CUP 1985, §4.2 and §11.4):
+Theory (docs/theory.md; Johnson, *Contact Mechanics*, CUP 1985, §4.2 and §11.4):
 
 .. math::
 

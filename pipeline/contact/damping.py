@@ -181,7 +181,7 @@ def cor_hunt_crossley_family(c):
 
     Notes
     -----
-    The energy integral of the law (no ODE) gives, PHYSICS.md §4,
+    The energy integral of the law (no ODE) gives, docs/theory.md,
 
     .. math:: c\,(1+e) = \ln\frac{1+c}{1-c\,e}.
 

@@ -1,4 +1,4 @@
-r"""Hertz's elastic contact and the exact elastic impact (PHYSICS.md §4).
+r"""Hertz's elastic contact and the exact elastic impact (docs/theory.md).
 
 .. math::
 

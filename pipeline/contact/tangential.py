@@ -1,6 +1,6 @@
 r"""Tangential contact: Mindlin's no-slip stiffness with a Coulomb cap and a history rule.
 
-:math:`k_t = 8G^*a`, :math:`|F_t| \le \mu F_n` (Mindlin 1949; PHYSICS.md §4). The DEM codes
+:math:`k_t = 8G^*a`, :math:`|F_t| \le \mu F_n` (Mindlin 1949; docs/theory.md). The DEM codes
 keep different histories: the total displacement (LAMMPS ``mindlin``, LIGGGHTS
 ``tangential history``: :func:`mindlin_total`) or the force, incremented
 (YADE ``MindlinPhys``, LAMMPS ``mindlin/force``: :func:`mindlin_incremental`).
@@ -62,7 +62,7 @@ class MindlinState:
         Elastic tangential displacement [m]: the stored spring displacement of the total rule,
         Ft/k_t for the incremental rule.
     Ft : numpy.ndarray
-        Tangential force [N], > 0 opposing positive ξ (PHYSICS.md §1 when ξ accumulates the
+        Tangential force [N], > 0 opposing positive ξ (docs/theory.md when ξ accumulates the
         slip measured along the initial slip).
     sliding : numpy.ndarray of bool
         True where the Coulomb cap |Ft| = μ·Fn was reached (the contact slides).
@@ -91,8 +91,8 @@ def mindlin_total(xi, dxi, delta, Fn, mu, G_eff, R_eff) -> MindlinState:
     ``tangential_model history`` (Di Renzo & Di Maio 2004 "no-slip" model with Coulomb
     limit), not the full Mindlin–Deresiewicz (1953) annulus-of-slip theory that Thornton
     et al. (2011, 2013) use; on Chung & Ooi's test 4 it gives e_t ≈ 0.698 at 10°
-    against 0.714 for :func:`mindlin_incremental` (PHYSICS.md §4), and 0.952 against
-    0.893 at 5° (PHYSICS.md's "0.89 vs 0.95" does not say which is which; an explicit DEM
+    against 0.714 for :func:`mindlin_incremental` (docs/theory.md), and 0.952 against
+    0.893 at 5° (the often-quoted "0.89 vs 0.95" does not say which is which; an explicit DEM
     loop with these per-step rules, ``tests/test_simulate.py``, gives this order).
 
     Parameters

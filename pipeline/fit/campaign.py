@@ -13,7 +13,7 @@ surfaces' state). :func:`fit_campaign` fits all the records in one least-squares
   (parameters ``mu_a`` [-], ``mu_b`` [s/m]);
 - ``damping``: ``"constant_e"`` (one restitution for every speed) or ``"constant_alpha"``
   (one material constant: c = α·v0 for the Hunt–Crossley family, so e falls as the speed
-  rises; PHYSICS.md §4).
+  rises; docs/theory.md).
 
 The hypotheses are fitted side by side (all four combinations by default) and
 :meth:`CampaignFit.compare` tabulates them: χ², AIC = χ² + 2k, BIC = χ² + k·ln N (the noise
@@ -144,7 +144,7 @@ class _Campaign(Design):
 
 @dataclass(frozen=True, eq=False)
 class CampaignFit(FitResult):
-    """One joint fit of many records (:func:`fit_campaign`; API.md, "Fitting").
+    """One joint fit of many records (:func:`fit_campaign`; docs/theory.md).
 
     Besides the attributes of :class:`~pipeline.fit.result.FitResult`:
 

@@ -92,7 +92,7 @@ class _Single(Design):
 
 
 def _e_of_alpha(law, alpha, E, speed, data):
-    """Restitution of ``law`` with material constant α at E*, speed (PHYSICS.md §4)."""
+    """Restitution of ``law`` with material constant α at E*, speed (docs/theory.md)."""
     from ..contact import NORMAL_LAWS
 
     L = NORMAL_LAWS[law]
@@ -105,7 +105,7 @@ def _e_of_alpha(law, alpha, E, speed, data):
 
 @dataclass(frozen=True, eq=False)
 class ContactFit(FitResult):
-    """The contact parameters of one record (:func:`fit_contact`; API.md, "Fitting").
+    """The contact parameters of one record (:func:`fit_contact`; docs/theory.md).
 
     Besides the attributes of :class:`~pipeline.fit.result.FitResult` (``values``,
     ``stderr``, ``ci(level)``, ``identifiable``, ``notes``, ``aic``, ``bic``, ``redchi``,
@@ -150,7 +150,7 @@ class ContactFit(FitResult):
     def true_forces(self, t) -> dict:
         """The fitted contact forces (before the sensor) at instants ``t`` [s]: ``Fn``,
         ``Ft`` [N], and ``Ft_rigid``, Routh's broken line on the fitted normal pulse
-        (Ft = μ·Fn until the slip would stop, then 0; PHYSICS.md §3)."""
+        (Ft = μ·Fn until the slip would stop, then 0; docs/theory.md)."""
         from .tangential import tangential_response
 
         P = self._P()

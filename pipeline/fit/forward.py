@@ -150,7 +150,7 @@ class RecordData:
         const = {
             "m_eff": float(sc.m_eff),
             "R_eff": float(sc.R_eff),
-            # m*/m_t (PHYSICS.md §1; a free second sphere adds its own rotational term)
+            # m*/m_t (docs/theory.md; a free second sphere adds its own rotational term)
             "lam": float(sc.m_eff * ((1 + 1 / sc.kappa) / sc.m + extra)),
             "g_ratio": float(sc.G_eff / sc.E_eff),  # G*/E* of the scene's materials
             "cos_a": math.cos(math.radians(float(sc.angle_deg))),
@@ -161,7 +161,7 @@ class RecordData:
             object.__setattr__(self, k, v)
 
     def slip0(self, speed):
-        """Initial slip of the contact point [m/s] at impact speed ``speed`` (PHYSICS.md §1)."""
+        """Initial slip of the contact point [m/s] at impact speed ``speed`` (docs/theory.md)."""
         return np.asarray(speed) * self.sin_a - self.slip_offset
 
     @property

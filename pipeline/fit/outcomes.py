@@ -6,7 +6,7 @@ against the incidence angle θ (from the normal), not forces. :func:`fit_outcome
 three models to such a table:
 
 ``"rigid"`` (μ, e)
-    Routh's rigid sphere with Coulomb friction (PHYSICS.md §3): the contact point slides
+    Routh's rigid sphere with Coulomb friction (docs/theory.md): the contact point slides
     and, if its slip reaches zero, rolls.
 ``"walton"`` (μ, e, β0)
     Walton's three-parameter rigid model (Walton 1993; measured by Foerster et al. 1994).

@@ -1,6 +1,6 @@
 r"""The normal impact as a master curve: one dimensionless pulse per restitution, tabulated once.
 
-Every normal law of :mod:`pipeline.contact` is self-similar (PHYSICS.md §4): in units of
+Every normal law of :mod:`pipeline.contact` is self-similar (docs/theory.md): in units of
 length :math:`\delta^* = (m^* v_0^2/K)^{2/5}`, time :math:`\delta^*/v_0` and force
 :math:`m^* v_0^2/\delta^*` the impact reads
 
@@ -33,7 +33,7 @@ force law, chosen where the family is smooth:
 
 The tangent and secant dashpot conventions give the same family of shapes (only the value
 of ζ for a given e differs), and so do the Hunt–Crossley, Lankarani–Nikravesh and Flores
-laws (one force law, PHYSICS.md §4): each family is tabulated once.
+laws (one force law, docs/theory.md): each family is tabulated once.
 
 The normal percussion needs no table: x'' = −f integrates to :math:`P_n/(m^* v_0) = 1 - u`.
 """

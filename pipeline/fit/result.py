@@ -1,7 +1,7 @@
 """What every fit result shares: values, uncertainties, intervals, information criteria.
 
 :class:`FitResult` is the common base of :class:`~pipeline.fit.contact.ContactFit` and
-:class:`~pipeline.fit.campaign.CampaignFit` (API.md, "Fitting"). The noise of every channel
+:class:`~pipeline.fit.campaign.CampaignFit` (docs/theory.md). The noise of every channel
 is measured (outside the contact), so the likelihood of a fit is that of Gaussian noise of
 known σ and
 

@@ -1,10 +1,10 @@
 r"""The cheapest model a record needs: :func:`select_model` → :class:`ModelSelection`.
 
-The tangential ladder, cheapest first (API.md, "Choosing a model"):
+The tangential ladder, cheapest first (docs/theory.md):
 
 ``"rigid"``
     Rigid bodies (Routh, Coulomb friction): the impact is instantaneous, the percussions
-    :math:`P_n = (1+e)\,m^* v_{n0}` and :math:`P_t = \min(\mu P_n,\; m_t s_0)` (PHYSICS.md
+    :math:`P_n = (1+e)\,m^* v_{n0}` and :math:`P_t = \min(\mu P_n,\; m_t s_0)` (docs/theory.md
     §3) are delivered at t0, and the record shows them as the sensor's impulse response
     (with no known filter, spread over one sample interval). Parameters e, μ, t0. It can
     only be adequate for a record that does not resolve the contact (a contact shorter

@@ -2,7 +2,7 @@ r"""What the fits know about the sensor, and how the forward model passes throug
 
 A measured record is not the contact force: the transducer and its amplifier low-pass
 filter it (a causal filter also delays it), the axes leak into each other, and the ADC
-rounds it to its step (PHYSICS.md §5; :mod:`pipeline.sensor_model` models all of it for the
+rounds it to its step (docs/theory.md; :mod:`pipeline.sensor_model` models all of it for the
 synthetic records). The fits model what shifts the fitted parameters and leave out what
 only adds noise:
 

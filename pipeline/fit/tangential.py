@@ -4,7 +4,7 @@ The fits evaluate the tangential model hundreds of times per record, for many pa
 sets at once (Jacobian columns, bootstrap replicates), so it must cost a few numpy calls,
 not one Python iteration per time step. It is solved exactly where the physics allows and
 with a 4th-order propagator elsewhere, on the nodes τ_j = j·h of a
-:class:`~pipeline.fit.pulse.NormalPulse` (units δ*, δ*/v0, m*·v0²/δ*; PHYSICS.md §1, §4):
+:class:`~pipeline.fit.pulse.NormalPulse` (units δ*, δ*/v0, m*·v0²/δ*; docs/theory.md):
 
 .. math::
 
@@ -38,7 +38,7 @@ This is the continuous-time model :func:`pipeline.simulate.impact` integrates ad
 ``tests/test_fit_contact.py`` checks the two against each other.
 
 **Coulomb** friction without compliance is Routh's line on the pulse,
-:math:`p = \min(\mu P_n, s_0/\lambda)` (PHYSICS.md §3).
+:math:`p = \min(\mu P_n, s_0/\lambda)` (docs/theory.md).
 
 References
 ----------

@@ -1,6 +1,6 @@
 r"""Hertz–Mindlin simulation of an oblique impact: records with known truth.
 
-Degrees of freedom (PHYSICS.md §1): the normal approach δ, the tangential velocity of the
+Degrees of freedom (docs/theory.md): the normal approach δ, the tangential velocity of the
 centre v_t and the spin ω of the ball (and, for a free second sphere, its spin). With the
 normal force :math:`F_n` (> 0 compressive) and the tangential force :math:`F_t` (> 0
 opposing the initial slip)
@@ -18,7 +18,7 @@ opposing the initial slip)
 the target surface, which may move at ``scene.surface_speed``); both spins are counted
 positive in the sense a positive :math:`F_t` produces (Pt > 0 spins the ball up). For a
 fixed target (``target_mass = inf``) :math:`m^* = m`, :math:`m_t = m\kappa/(1+\kappa)`
-and :math:`s(P_t) = v_{t0} - (1 + 1/\kappa)P_t/m` (PHYSICS.md §1). For two free spheres
+and :math:`s(P_t) = v_{t0} - (1 + 1/\kappa)P_t/m` (docs/theory.md). For two free spheres
 the normal problem uses :math:`m^* = m_1 m_2/(m_1 + m_2)` and the slip uses :math:`m_t`
 above (the second sphere's κ is ``target_kappa``, default the ball's). A movable flat
 target (finite ``target_mass``, infinite ``target_radius``) is refused, as by
@@ -29,7 +29,7 @@ The tangential axis points along the initial slip :math:`s_0 = v_{t0} - \omega_0
 spin or a surface speed makes :math:`s_0 < 0`, every tangential output (``Ft``, ``slip``,
 ``vt``, ``spin``, ``omega``, ``Pt_final``) is reported on the flipped axis so that
 ``Ft > 0`` still opposes the initial slip (``attrs["tangential_axis_sign"] = -1``). This is
-the convention API.md and PHYSICS.md §1 fix for the outputs: ``Pt > 0`` opposes the
+the conventions of docs/theory.md fix for the outputs: ``Pt > 0`` opposes the
 INITIAL slip and ``omega`` is positive in the sense ``Pt > 0`` produces, so
 :math:`\omega = \sigma\omega_0 + P_t R/I` with :math:`\sigma` = ``tangential_axis_sign``.
 The scene's own inputs (``spin``, ``surface_speed``, the sense of :math:`v\sin\alpha`) are
@@ -51,7 +51,7 @@ Tangential models
     :math:`F_t = 0` from then on). This is the exact limit of a regularised law
     :math:`\mu F_n\tanh(s/v_{reg})` as :math:`v_{reg}\to 0`, handled with an event at
     s = 0 instead of a stiff regularisation; it reproduces Routh's broken line
-    (PHYSICS.md §3) for any normal law.
+    (docs/theory.md) for any normal law.
 ``"mindlin"``
     Tangential spring :math:`k_t = 8G^*a` with the Coulomb cap and a displacement history,
     see :func:`pipeline.contact.mindlin_total` (``history="total"``, the default, as

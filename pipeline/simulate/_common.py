@@ -66,7 +66,7 @@ def _param(law, e, K, m_eff, v0, alpha=None, param=None):
     if param is not None:
         return param
     if alpha is not None:
-        return law.material_to_param(alpha, K, m_eff, v0)  # e.g. c = α·v0 (PHYSICS.md §4)
+        return law.material_to_param(alpha, K, m_eff, v0)  # e.g. c = α·v0 (docs/theory.md)
     return law.calibrate(e)
 
 

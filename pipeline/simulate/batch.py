@@ -307,7 +307,7 @@ def tangential_history(
         e2 = np.asarray(eta, dtype=float).reshape(q2.shape)
     p = np.zeros((n + 1, N))
     ft = np.zeros((n + 1, N))
-    if tangential == "coulomb":  # Routh: Pt = min(μ·Pn, m_t·s0) (PHYSICS.md §3), Pn by Simpson
+    if tangential == "coulomb":  # Routh: Pt = min(μ·Pn, m_t·s0) (docs/theory.md), Pn by Simpson
         pn = np.concatenate(
             [np.zeros((1, N)), np.cumsum(h / 6.0 * (f2[:-2:2] + 4.0 * f2[1::2] + f2[2::2]), 0)]
         )
@@ -447,7 +447,7 @@ def _batch_group(law, elastic, param, s0, lam, mu, ktc, xg, tangential, history,
         e_n, tau_c, f_max, x_max = g(-u), g(tau_c), g(f_max), g(x_max)
     ratio = np.full(N, np.nan)
     if tangential == "coulomb":
-        p = np.minimum(mu * (1.0 + e_n), s0 / lam)  # Routh's broken line (PHYSICS.md §3)
+        p = np.minimum(mu * (1.0 + e_n), s0 / lam)  # Routh's broken line (docs/theory.md)
         reverses = np.zeros(N, dtype=bool)
     elif tangential == "none":
         p = np.zeros(N)

@@ -16,7 +16,7 @@ groups only:
 - ψ = s0/(μ·λ·v_n0), the normalised incidence of Maw, Barber & Fawcett (1976) — for a ball
   on a wall, s0/v_n0 = tan θ and λ = 1 + 1/κ, so ψ = tan θ/(μ(1 + 1/κ));
 - χ = λ·k_t·δ_max²/(m*·v_n0²)/√x = λ·7.5·G*/E* (times ``kt_scale`` for a softer contact),
-  their ratio of tangential to normal stiffness with the inertia factor (PHYSICS.md §4:
+  their ratio of tangential to normal stiffness with the inertia factor (docs/theory.md:
   MBF's χ = (1 − ν)/(2 − ν)·(1 + mR²/I) is 4/15 of it for like materials);
 - ζ_t = λ·x_γ,t, the tangential damping.
 
