@@ -2,7 +2,7 @@
 
 Records: ``N_RECORDS`` quartic pulses (Legendre coefficients near those of a Hertz pulse of
 ≈1.2 kN, randomly perturbed) on one grid of ``N_SAMPLES`` instants spanning 100 µs starting
-1 ms into the record (a Garland–Rogers-like contact sampled at 1 MHz, PHYSICS.md §5), plus
+1 ms into the record (a Garland–Rogers-like contact sampled at 1 MHz, Garland & Rogers 2009), plus
 white noise σ = ``SIGMA`` N. Every method fits a quartic; the error is measured against the
 known generating polynomial (RMS over the grid), whose expected value for an unbiased
 least-squares fit is σ·√(p/n).

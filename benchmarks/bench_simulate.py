@@ -1,6 +1,6 @@
 """Chart family 2 (issue 9): the oblique outcome, every method on one truth, time against error.
 
-Truth: Chung & Ooi (2011) test 4 (PHYSICS.md §6) — R = 2.5 mm alumina on a rigid wall,
+Truth: Chung & Ooi (2011) test 4 — R = 2.5 mm alumina on a rigid wall,
 3.9 m/s, μ = 0.092 — at the 89 incidences 1–89°, with a Tsuji-type normal dashpot
 (``hertz_dashpot_secant``) calibrated to e_n = 0.98, Mindlin's tangential spring (total
 rule) and a tangential dashpot x_γ,t = 1: the contact LAMMPS runs with ``damping tsuji``

@@ -18,7 +18,8 @@
 ``grazing``
     incidence from near-normal to grazing × μ: rigid vs Mindlin and batch vs single path.
 ``rod_paradox``
-    the slender rod of PHYSICS.md §3 (m = 1 kg, L = 1 m, lower end strikes, v_G = (0.3,
+    the slender rod of docs/theory.md, Rigid bodies (m = 1 kg, L = 1 m, lower end strikes, v_G =
+    (0.3,
     −1.0) m/s, e = 0.9) over rod angle × μ: ΔKE/KE0 under Newton's, Poisson's and Stronge's
     laws (:func:`pipeline.rigid.planar_impact`); where Newton's law creates energy (Kane's
     paradox) it must raise an ``EnergyGainWarning``.

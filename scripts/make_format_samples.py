@@ -10,7 +10,7 @@ no half-sine shortcut). The tangential force is ILLUSTRATIVE, not a contact mode
     Ft(t) = μ·Fn(t)·tanh((t_r − t)/τ),   μ = 0.12, t_r = 0.7·t_c, τ = 0.06·t_c
 
 i.e. Coulomb sliding (+μ·Fn, opposing the initial slip) early and a sign reversal late in
-the contact, as Garland & Rogers observed (PHYSICS.md §5). The out-of-plane force is 1 %
+the contact, as Garland & Rogers (2009) observed. The out-of-plane force is 1 %
 cross-talk of Fn. Files:
 
 - sensor_decimal_comma.csv — lab sensor export in a decimal-comma locale: UTF-8 with BOM,

@@ -3,12 +3,12 @@
 Run by ``make data`` (``python scripts/make_samples.py --out data_samples``); re-runnable
 and deterministic: the same package version writes the same bytes.
 
-What it makes (PHYSICS.md §5; Garland & Rogers, J. Appl. Mech. 76:031015, 2009,
+What it makes (Garland & Rogers, J. Appl. Mech. 76:031015, 2009,
 doi:10.1115/1.3086432 — whose waveforms are not public, so these are SYNTHETIC):
 
 - a 25.4 mm steel ball (E 210 GPa, ν 0.29, ρ 7850 kg/m³) striking a fixed steel target cap
   of radius 25.4 mm (so R* = 8.47 mm: the rig's striker hits a spherical cap mounted on the
-  transducer, PHYSICS.md §5), at incidence 5°, 15° (the seed paper's case), 30°, 45° and
+  transducer, Garland & Rogers 2009), at incidence 5°, 15° (the seed paper's case), 30°, 45° and
   speeds 0.3 and 0.6 m/s;
 - friction rising linearly with the initial tangential speed, the form Garland & Rogers
   report: μ = a + b·v_t0 with a = 0.10 and b = 0.20 s/m (our choice of values: μ from 0.105

@@ -1,12 +1,12 @@
 """advise: the cheapest model within a tolerance, on scenes whose answer is known.
 
 - Chung & Ooi (2011), test 4 (Granular Matter 13:643, doi:10.1007/s10035-011-0277-0;
-  PHYSICS.md §6): a 2.5 mm aluminium-oxide sphere at 3.9 m/s on a rigid wall, μ = 0.092,
+  Chung & Ooi 2011): a 2.5 mm aluminium-oxide sphere at 3.9 m/s on a rigid wall, μ = 0.092,
   e = 0.98 — "rigid theory above 32.5°, compliance dominates below". 32.5° is Routh's
   sliding boundary tan α = 3.5·μ·(1+e) (seed eq. 6, Ciornei et al. 2017,
   doi:10.1051/matecconf/201711207005).
 - Maw, Barber & Fawcett (Wear 38:101, 1976, doi:10.1016/0043-1648(76)90201-7): χ ≈ 1.44
-  for a solid steel sphere (PHYSICS.md §4), χ = (1−ν)/(2−ν)·(1 + R²/k²).
+  for a solid steel sphere (docs/theory.md, Compliant contact), χ = (1−ν)/(2−ν)·(1 + R²/k²).
 - Derived here: above the sliding boundary a compliant contact slides from its first
   instant (ψ1 ≥ 2χ(1+e) > 2/3: the Mindlin spring meets the Coulomb cap at once), so
   Ft = μ·Fn at every instant in every model — the rigid answer is exact, and Coulomb
@@ -105,7 +105,8 @@ def test_mbf_groups_of_a_steel_sphere():
     psi1, chi, eta = mbf_groups(Scene(angle_deg=20.0, **STEEL))
     assert eta == pytest.approx(0.7 / 1.7, rel=1e-12)
     assert chi == pytest.approx(0.7 / 1.7 * 3.5, rel=1e-12)
-    assert chi == pytest.approx(1.44, abs=0.005)  # MBF's value for steel (PHYSICS.md §4)
+    # MBF's value for steel (docs/theory.md, Compliant contact)
+    assert chi == pytest.approx(1.44, abs=0.005)
     assert psi1 == pytest.approx(2 * eta * math.tan(math.radians(20.0)) / 0.131, rel=1e-12)
     # a rigid target gives the same η: E* = E/(1−ν²), G* = G/(2−ν)
     rigid_target = {**STEEL, "target_E": math.inf}

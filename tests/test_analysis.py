@@ -1,7 +1,8 @@
 """pipeline.analyse on records with known truth, and make reproduce's core.
 
 Ground truth: the simulator (pipeline.simulate.impact) with a calibrated Hunt–Crossley
-normal law (exact e, PHYSICS.md §4) and Routh's rigid solution (PHYSICS.md §3; seed eqs.
+normal law (exact e, docs/theory.md, Compliant contact) and Routh's rigid solution (docs/theory.md,
+Rigid bodies; seed eqs.
 6–7, doi:10.1051/matecconf/201711207005).
 """
 
@@ -54,7 +55,7 @@ def test_restitution_and_friction_recovered_through_the_sensor(sliding_sensor):
     assert a.split.e_newton == pytest.approx(0.8, abs=0.004)
     # sliding throughout: Ft = μ·Fn at every instant, so the record's μ is the scene's
     assert a.mu_record == pytest.approx(0.2, rel=0.02)
-    # the rigid end point E1: Pt_f = μ(1+e)·m·v_n0 (PHYSICS.md §3)
+    # the rigid end point E1: Pt_f = μ(1+e)·m·v_n0 (docs/theory.md, Rigid bodies)
     assert float(a.rigid.Pt_f) == pytest.approx(
         0.2 * 1.8 * scene.m * 0.5 * math.cos(math.radians(60.0)), rel=1e-12
     )
@@ -76,7 +77,7 @@ def test_rigid_parameters_from_the_record(sliding_sensor):
 
 def test_summary_is_strict_json_and_dataset_round_trips(tmp_path, sliding_sensor):
     _, a = sliding_sensor
-    # API.md: .summary() is JSON-ready as it stands (strict JSON: no NaN, no Infinity)
+    # the API: .summary() is JSON-ready as it stands (strict JSON: no NaN, no Infinity)
     text = json.dumps(a.summary(), allow_nan=False)
     back = json.loads(text)
     assert back["rigid"]["regime"] == "sliding"
@@ -217,7 +218,8 @@ def test_record_without_Ft_is_refused_up_front():
 def test_record_mu_in_the_sticking_regime():
     """Sticking regime (tan 15° = 0.27 < 3.5·μ·(1+e) = 1.9): the contact slides with
     Ft = μ·Fn only until corner A (a quarter of the compression impulse here, Pn_A = Pt_S/μ,
-    PHYSICS.md §3), then rolls with Ft = 0 (Coulomb law, rigid tangential contact). The
+    docs/theory.md, Rigid bodies), then rolls with Ft = 0 (Coulomb law, rigid tangential contact).
+    The
     record's μ is the sliding plateau, not the median over compression (which is 0)."""
     scene = Scene(speed=0.5, angle_deg=15.0, mu=0.3, e=0.8, **STEEL)
     rec = impact(scene, tangential="coulomb")

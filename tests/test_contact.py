@@ -1,6 +1,7 @@
 """Tests of pipeline.contact: Hertz closed forms and calibrated damped normal laws.
 
-Ground truth comes from published numbers (PHYSICS.md §4, §6, with the papers cited at each
+Ground truth comes from published numbers (docs/theory.md, Compliant contact; Chung & Ooi 2011,
+with the papers cited at each
 test) or from an independent, tightly toleranced ODE integration written here (solve_ivp of
 the dimensionless equation of motion, not the library's helpers).
 """
@@ -57,7 +58,8 @@ def _integrate_cor(accel, tmax=60.0):
 
 
 # ------------------------------------------------------------------ Hunt–Crossley family
-# PHYSICS.md §4 table: the COR each paper's closed-form c(e) actually gives (3 decimals).
+# docs/theory.md, Compliant contact table: the COR each paper's closed-form c(e) actually gives (3
+# decimals).
 # Hunt & Crossley, J. Appl. Mech. 42:440 (1975), doi:10.1115/1.3423596;
 # Lankarani & Nikravesh, J. Mech. Des. 112:369 (1990), doi:10.1115/1.2912617;
 # Flores et al., Nonlinear Dyn. 65:161 (2011), doi:10.1007/s11071-010-9911-5.
@@ -71,7 +73,8 @@ TABLE_TARGETS = [0.3, 0.5, 0.7, 0.9, 0.95]
 
 @pytest.mark.parametrize("name", sorted(CLOSED_FORM_TABLE))
 def test_closed_form_cor_table(name):
-    """PHYSICS.md §4: the COR each paper's c(e) gives, to the printed 3 decimals."""
+    """docs/theory.md, Compliant contact: the COR each paper's c(e) gives, to the printed 3
+    decimals."""
     closed, expected = CLOSED_FORM_TABLE[name]
     got = contact.cor_hunt_crossley_family(closed(np.array(TABLE_TARGETS)))
     np.testing.assert_allclose(got, expected, atol=5e-4 + 1e-9, rtol=0)
@@ -79,7 +82,7 @@ def test_closed_form_cor_table(name):
 
 
 def test_hc_exact_relation_holds():
-    """c(1+e) = ln[(1+c)/(1−c·e)] (PHYSICS.md §4) at the calibrated pairs."""
+    """c(1+e) = ln[(1+c)/(1−c·e)] (docs/theory.md, Compliant contact) at the calibrated pairs."""
     e = np.array([0.2, 0.35, 0.5, 0.8, 0.95])  # (small e: 1 − c·e → 0 makes the log ill-posed)
     c = contact.calibrate_hunt_crossley_family(e)
     np.testing.assert_allclose(c * (1 + e), np.log((1 + c) / (1 - c * e)), rtol=1e-13)
@@ -129,7 +132,7 @@ def test_hc_vectorised_shapes():
 
 # --------------------------------------------------------------------------- Hertz
 # Chung & Ooi, Granular Matter 13:643 (2011), doi:10.1007/s10035-011-0277-0, tests 1 and 2
-# (PHYSICS.md §6): expected F_max [N], t_c [s], δ_max [m].
+# (Chung & Ooi 2011): expected F_max [N], t_c [s], δ_max [m].
 def _glass_pair(E, nu, rho):
     m = rho * 4.0 / 3.0 * math.pi * 0.01**3
     return Scene(
@@ -187,13 +190,13 @@ def test_hertz_tc_constant():
 
 
 def test_hertz_fmax_tc_product():
-    """PHYSICS.md §4: F_max·t_c = 3.679·m*·v0, for any scene."""
+    """docs/theory.md, Compliant contact: F_max·t_c = 3.679·m*·v0, for any scene."""
     for _, scene, *_ in CHUNG_OOI:
         h = contact.hertz_impact(scene)
         assert h.F_max * h.t_c / (h.m_eff * h.v0) == pytest.approx(3.679, abs=5e-4)
 
 
-# PHYSICS.md §5 magnitudes (steel E = 210 GPa, ν = 0.3, on steel), to their printed digits.
+# Garland & Rogers 2009 magnitudes (steel E = 210 GPa, ν = 0.3, on steel), to their printed digits.
 @pytest.mark.parametrize(
     ("R", "m", "v0", "F", "tc", "dmax", "dF"),
     [
@@ -211,7 +214,7 @@ def test_hertz_garland_rogers_magnitudes(R, m, v0, F, tc, dmax, dF):
     assert abs(h.F_max - F) <= dF
     assert abs(h.t_c - tc) <= 0.5e-6
     # δ_max is printed to 1 µm: 8 µm is 2.5 % off at 8.2 µm, and the 50.8 mm / 0.2 m/s cell
-    # reads 17 µm where Hertz gives 16.46 µm (a rounding slip in PHYSICS.md §5): 3.5 %.
+    # reads 17 µm where Hertz gives 16.46 µm (a rounding slip in Garland & Rogers 2009): 3.5 %.
     assert h.delta_max == pytest.approx(dmax, rel=0.035)
 
 
@@ -253,7 +256,8 @@ def test_hertz_pulse_against_ode():
 
 
 def test_hertz_pulse_percussions():
-    """PHYSICS.md §4: peak at t_c/2, Pn(t_c/2) = m*·v0, Pn(t_c) = 2·m*·v0, zero outside."""
+    """docs/theory.md, Compliant contact: peak at t_c/2, Pn(t_c/2) = m*·v0, Pn(t_c) = 2·m*·v0, zero
+    outside."""
     h = contact.hertz_impact(_steel_ball(1.0))
     p = contact.hertz_pulse(np.array([-1e-6, 0.0, h.t_c / 2, h.t_c, 2 * h.t_c]), h)
     assert p["Pn"][2] == pytest.approx(h.m_eff * h.v0, rel=1e-12)
@@ -296,7 +300,7 @@ def test_registry_covers_all_damped_laws():
 @pytest.mark.parametrize("name", DAMPED)
 @pytest.mark.parametrize("e", E_SET)
 def test_calibration_against_independent_ode(name, e):
-    """Chung–Ooi test 3 (PHYSICS.md §6): a damped law must return the requested e; here
+    """Chung–Ooi test 3 (Chung & Ooi 2011): a damped law must return the requested e; here
     for every registered law, to 1e-5 (the brief asks 1e-3)."""
     law = contact.NORMAL_LAWS[name]
     p = law.calibrate(e)
@@ -559,7 +563,7 @@ def test_tabulated_cor_heavy_damping_extrapolation(name):
 # --------------------------------------------------------------------------- Mindlin
 @pytest.mark.parametrize("nu", [0.0, 0.23, 0.3, 0.45])
 def test_mindlin_to_hertz_tangent_stiffness_ratio_like_materials(nu):
-    """PHYSICS.md §4 (Mindlin 1949; Johnson 1985 §7.2): for like materials
+    """docs/theory.md, Compliant contact (Mindlin 1949; Johnson 1985 §7.2): for like materials
     k_t/k_n = 2(1−ν)/(2−ν), k_t = 8·G*·a, k_n = dF/dδ = (3/2)·K·√δ = 2·E*·a."""
     E, R1, R2, delta = 210e9, 0.0127, 0.0254, 7e-6
     s = Scene(

@@ -1,5 +1,5 @@
 """Tests of pipeline.figures: the plotted data must equal the physics, checked against closed
-forms (seed eqs. 5–7, PHYSICS.md §3) rather than against the code's own output.
+forms (seed eqs. 5–7, docs/theory.md, Rigid bodies) rather than against the code's own output.
 
 SEED: Ciornei et al., MATEC Web Conf. 112, 07005 (2017), doi:10.1051/matecconf/201711207005,
 Figs. 4 and 6.
@@ -123,7 +123,7 @@ def test_fig6_kink_at_the_closed_form_u_star(tmp_path):
     # Ball dropped vertically (v_n0 = v') on a disc moving at u: relative slip −u.
     # Sticking exit: Pt = (2/7)·m·u, lab velocity v_x'' = Pt/m = (2/7)·u.
     # Sliding exit: Pt = μ(1+e)·m·v', v_x'' = μ(1+e)·v'.
-    # They meet at u* = 3.5·μ·(1+e)·v' (PHYSICS.md §3 regime test with tan α → u/v').
+    # They meet at u* = 3.5·μ·(1+e)·v' (docs/theory.md, Rigid bodies regime test with tan α → u/v').
     scene = default_scenes()["fig6"]
     mu, e, v = scene.mu, scene.e, scene.speed
     u_star = 3.5 * mu * (1 + e) * v
@@ -178,7 +178,7 @@ def test_figures_leave_pyplot_alone():
 def test_fig4_symbols_follow_the_scene():
     # The seed's symbols ((2/7)·m·v'·sin α ...) hold only for a ball without spin on a still,
     # fixed plane; with spin the general m_t·|s0| labels are used and the S line moves to
-    # Pt = (2/7)·m·|v'·sin α − ω0·R| (PHYSICS.md §1).
+    # Pt = (2/7)·m·|v'·sin α − ω0·R| (docs/theory.md, Sign conventions).
     d = default_scenes()
     sl, st = d["fig4_sliding"].replace(spin=-30.0), d["fig4_sticking"].replace(spin=-30.0)
     fig = fig4_percussion_plane(sl, st)

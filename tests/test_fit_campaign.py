@@ -4,7 +4,8 @@ Records: pipeline.simulate.impact + pipeline.sensor_model.to_sensor (filter, cro
 noise, ADC) over angles × speeds, with friction μ = a + b·v_t0 as Garland & Rogers (J. Appl.
 Mech. 76:031015, 2009, doi:10.1115/1.3086432) found, and damping either with one e for all
 speeds or with one material constant α = c/v0 (Hunt & Crossley, J. Appl. Mech. 42:440,
-1975, doi:10.1115/1.3423596), under which e falls as the speed rises (PHYSICS.md §4).
+1975, doi:10.1115/1.3423596), under which e falls as the speed rises (docs/theory.md, Compliant
+contact).
 """
 
 from __future__ import annotations

@@ -25,7 +25,7 @@ from pipeline.fit.uncertainty import block_length
 from pipeline.sensor_model import to_sensor
 from pipeline.simulate import impact
 
-# Garland–Rogers-like: 25.4 mm steel ball on a 25.4 mm steel cap (PHYSICS.md §5)
+# Garland–Rogers-like: 25.4 mm steel ball on a 25.4 mm steel cap (Garland & Rogers 2009)
 GR = dict(
     radius=0.0127,
     density=7850.0,
@@ -51,7 +51,8 @@ def quiet(fn, *args, **kw):
 def test_elastic_master_curve_is_hertz_closed_form():
     """e = 1: the tabulated pulse is the exact elastic impact (Johnson 1985 §11.4, through
     contact.hertz_pulse): in δ* = (m*v0²/K)^{2/5} units δ_max = (5/4)^{2/5} and
-    t_c = 0.8·B(2/5, 1/2)·δ_max (PHYSICS.md §4). Tolerance: the table is solved at 1e-12
+    t_c = 0.8·B(2/5, 1/2)·δ_max (docs/theory.md, Compliant contact). Tolerance: the table is solved
+    at 1e-12
     and sampled exactly at its nodes."""
     p = normal_pulse("hertz", 1.0, 128)
     dmax = 1.25**0.4
@@ -65,7 +66,8 @@ def test_elastic_master_curve_is_hertz_closed_form():
 @pytest.mark.parametrize("law", ["hunt_crossley", "hertz_dashpot", "viscoelastic"])
 def test_master_curve_restitution_between_nodes(law):
     """Between the table's nodes the interpolated pulse still rebounds with the e asked
-    for: −u(τ_c) = e (the laws' exact/tabulated COR, PHYSICS.md §4), and the normal
+    for: −u(τ_c) = e (the laws' exact/tabulated COR, docs/theory.md, Compliant contact), and the
+    normal
     percussion is (1 + e)·m*·v0. Tolerance 2e-6: the dashpot family's table (fractional
     powers of 1 − e near e = 1) is the least accurate, ~1e-6."""
     e = np.array([0.137, 0.42, 0.777, 0.9, 0.983])
@@ -114,7 +116,8 @@ def test_tangential_response_follows_the_adaptive_simulator(history, angle):
 
 
 def test_coulomb_is_routh_broken_line():
-    """Coulomb friction on the compliant pulse: Pt = min(μ·Pn, m_t·s0) (PHYSICS.md §3)."""
+    """Coulomb friction on the compliant pulse: Pt = min(μ·Pn, m_t·s0) (docs/theory.md, Rigid
+    bodies)."""
     sc = gr(angle_deg=15.0, mu=0.13)
     pul, tr, *_ = _dimensionless(sc, "hunt_crossley", tangential="coulomb")
     lam = 1 + 1 / sc.kappa
@@ -220,8 +223,9 @@ def test_block_length_from_autocorrelation():
 
 
 def test_sticking_impact_bounds_mu_only_from_below():
-    """5°, μ = 0.4: the contact sticks from first contact (k_t·s0 < μ·(1+c), PHYSICS.md
-    §4) and never reaches the cap where the force matters, so any larger μ gives the same
+    """5°, μ = 0.4: the contact sticks from first contact (k_t·s0 < μ·(1+c), docs/theory.md,
+    Compliant contact) and never reaches the cap where the force matters, so any larger μ gives
+    the same
     forces. The fit says so: not identifiable, a lower bound under the truth, an open
     interval, and the reason in the notes."""
     sc = gr(angle_deg=5.0, mu=0.4)

@@ -139,8 +139,8 @@ def test_hertz_mindlin_recovers_the_truth_of_a_simulated_table():
 
 
 def test_rigid_model_is_routh_closed_form():
-    """The rigid model's predictions equal pipeline.rigid.sphere_on_plane (Routh, PHYSICS.md
-    §3) in both regimes, including the rebound angle atan(e_t·tan θ/e)."""
+    """The rigid model's predictions equal pipeline.rigid.sphere_on_plane (Routh, docs/theory.md,
+    Rigid bodies) in both regimes, including the rebound angle atan(e_t·tan θ/e)."""
     angles = np.array([3.0, 10.0, 20.0, 35.0, 60.0, 85.0])
     sc = KHARAZ_SCENE.replace(mu=0.2, e=0.7)
     fit = fit_outcomes(

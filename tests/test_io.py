@@ -2,7 +2,8 @@
 
 Ground truth here is either the text of the file itself (a row written by hand and read
 back) or the closed-form Hertz pulse the samples were made from (Johnson, Contact Mechanics,
-1985, doi:10.1017/CBO9781139171731; PHYSICS.md §4), never the reader's own earlier output.
+1985, doi:10.1017/CBO9781139171731; docs/theory.md, Compliant contact), never the reader's own
+earlier output.
 """
 
 from __future__ import annotations

@@ -1,12 +1,14 @@
 """Percussions and restitution coefficients against closed forms.
 
 - Elastic Hertz impact (exact history: pipeline.contact.hertz_pulse; Johnson, Contact
-  Mechanics, CUP 1985, §11.4, doi:10.1017/CBO9781139171731; PHYSICS.md §4):
+  Mechanics, CUP 1985, §11.4, doi:10.1017/CBO9781139171731; docs/theory.md, Compliant contact):
   Pn(t_c/2) = m*·v0, Pn(t_c) = 2·m*·v0, and every restitution coefficient is 1.
 - Hunt–Crossley damped impact (Hunt & Crossley, J. Appl. Mech. 42:440, 1975,
   doi:10.1115/1.3423596), integrated here with solve_ivp, with c calibrated so that the
-  exact energy integral c(1+e) = ln[(1+c)/(1−ce)] gives the requested e (PHYSICS.md §4):
-  Poisson's, Newton's and Stronge's coefficients all equal e for a sphere (PHYSICS.md §2;
+  exact energy integral c(1+e) = ln[(1+c)/(1−ce)] gives the requested e (docs/theory.md, Compliant
+  contact):
+  Poisson's, Newton's and Stronge's coefficients all equal e for a sphere (docs/theory.md,
+  Restitution;
   Stronge, Proc. R. Soc. A 431:169, 1990, doi:10.1098/rspa.1990.0125).
 """
 
@@ -231,7 +233,8 @@ def test_cumulative_percussion_pads_zero_ends_and_integrates_exactly():
 def test_digitised_channels_on_their_own_instants():
     # WebPlotDigitizer-like: Fn at 41 points, Ft at 29 other points inside the contact;
     # each channel is integrated on its own points (padded with F = 0 at the window ends)
-    # and put on the common grid. Sparse points: PHYSICS.md §4 totals within 3e-3.
+    # and put on the common grid. Sparse points: docs/theory.md, Compliant contact totals within
+    # 3e-3.
     tn = np.linspace(0.0, IMPACT.t_c, 41)
     tt = np.linspace(0.0, IMPACT.t_c, 31)[1:-1] + 0.7e-6
     tu = np.union1d(tn, tt)
@@ -271,7 +274,7 @@ def test_summaries_are_strict_json():
 
 
 # ------------------------------------------------------------------ resolution (stability maps)
-# A Garland–Rogers-like impact (PHYSICS.md §5): 25.4 mm steel ball on a steel cap, 15°,
+# A Garland–Rogers-like impact (Garland & Rogers 2009): 25.4 mm steel ball on a steel cap, 15°,
 # Mindlin contact with a tangential reversal, through the sensor model without cross-talk.
 GR = Scene(
     radius=0.0127,

@@ -2,7 +2,7 @@
 
 Sources:
 - SEED: Ciornei et al., MATEC Web Conf. 112, 07005 (2017), doi:10.1051/matecconf/201711207005,
-  eqs. 5–7 and Fig. 4 (restated in PHYSICS.md §3).
+  eqs. 5–7 and Fig. 4 (restated in docs/theory.md, Rigid bodies).
 - WM: Wang & Mason, J. Appl. Mech. 59, 635 (1992), doi:10.1115/1.2893771.
 - STRONGE: Stronge, Proc. R. Soc. Lond. A 431, 169 (1990), doi:10.1098/rspa.1990.0125;
   Impact Mechanics, CUP (2000), ch. 5.
@@ -30,7 +30,7 @@ from pipeline.rigid import (
     sphere_on_plane,
 )
 
-M, R, V = 0.067, 0.0127, 1.5  # 25.4 mm steel ball (PHYSICS.md §5), 1.5 m/s
+M, R, V = 0.067, 0.0127, 1.5  # 25.4 mm steel ball (Garland & Rogers 2009), 1.5 m/s
 KAPPA = 0.4
 
 
@@ -62,7 +62,7 @@ def test_seed_eq7_end_point_E2_and_corner_A():
 
 
 def test_seed_end_point_E1_sliding():
-    # PHYSICS.md §3 / SEED Fig. 4: sliding throughout ends at E1, Pt = μ(1+e)·m·v_n0.
+    # docs/theory.md, Rigid bodies / SEED Fig. 4: sliding throughout ends at E1, Pt = μ(1+e)·m·v_n0.
     a, mu, e = math.radians(60.0), 0.1, 0.7
     r = sphere_on_plane(ball(angle_deg=60.0, mu=mu, e=e))
     assert r.regime == "sliding"
@@ -89,7 +89,7 @@ def test_seed_eq6_regime_boundary(mu, e):
 
 
 def test_tangential_restitution_sliding_and_sticking():
-    # PHYSICS.md §3: sliding e_t = 1 − μ(1+e)/tan α; sticking e_t = 5/7 (GOLDSMITH).
+    # docs/theory.md, Rigid bodies: sliding e_t = 1 − μ(1+e)/tan α; sticking e_t = 5/7 (GOLDSMITH).
     mu, e = 0.15, 0.8
     sl = sphere_on_plane(ball(angle_deg=70.0, mu=mu, e=e))
     assert sl.regime == "sliding"
@@ -97,7 +97,7 @@ def test_tangential_restitution_sliding_and_sticking():
     st_ = sphere_on_plane(ball(angle_deg=20.0, mu=mu, e=e))
     assert st_.regime == "sticking"
     assert st_.e_t == pytest.approx(5 / 7, rel=1e-12)
-    # rolling after sticking: contact point at rest, v_t = ω·R (PHYSICS.md §1)
+    # rolling after sticking: contact point at rest, v_t = ω·R (docs/theory.md, Sign conventions)
     assert st_.v_t == pytest.approx(st_.omega * R, rel=1e-12)
     assert st_.slip_f == 0.0
     assert sl.v_n == pytest.approx(e * V * math.cos(math.radians(70.0)), rel=1e-12)
@@ -118,7 +118,8 @@ def test_kappa_generalisation_hollow_sphere():
 @pytest.mark.parametrize("mu", [0.05, 0.4])
 def test_angular_momentum_about_contact_point_is_conserved(spin, mu):
     # Both impulses act at the contact point, so m·v_t + I·ω/R is unchanged by the impact
-    # (ω positive in the forward-rolling sense, PHYSICS.md §1) — whatever the regime. The
+    # (ω positive in the forward-rolling sense, docs/theory.md, Sign conventions) — whatever the
+    # regime. The
     # scene's spin is on the scene's axis, so compare on that axis (the *_scene values).
     r = sphere_on_plane(ball(angle_deg=35.0, mu=mu, e=0.6, spin=spin))
     before = M * V * math.sin(math.radians(35.0)) + KAPPA * M * R * spin
@@ -128,13 +129,14 @@ def test_angular_momentum_about_contact_point_is_conserved(spin, mu):
         assert r.v_t_scene - r.omega_scene * R == pytest.approx(0.0, abs=1e-12)
     else:  # slip keeps its sign while sliding: a rigid ball never reverses slip
         assert np.sign(r.v_t_scene - r.omega_scene * R) == np.sign(r.slip0)
-    # on the slip axis (API.md: ω positive in the sense Pt > 0 produces) the slip is ≥ 0
+    # on the slip axis (docs/theory.md: ω positive in the sense Pt > 0 produces) the slip is ≥ 0
     assert r.slip_f >= 0 and r.v_t - r.omega * R == pytest.approx(r.slip_f, abs=1e-12)
     assert r.Pt_f >= 0
 
 
 def test_spin_that_cancels_slip_gives_no_friction():
-    # slip0 = v_t0 − ω·R = 0: the ball arrives rolling; no tangential impulse (PHYSICS.md §1).
+    # slip0 = v_t0 − ω·R = 0: the ball arrives rolling; no tangential impulse (docs/theory.md, Sign
+    # conventions).
     vt0 = V * math.sin(math.radians(30.0))
     r = sphere_on_plane(ball(angle_deg=30.0, mu=0.3, e=0.8, spin=vt0 / R))
     assert r.slip0 == pytest.approx(0.0, abs=1e-15)
@@ -145,7 +147,8 @@ def test_spin_that_cancels_slip_gives_no_friction():
 def test_negative_slip_is_the_mirror_image():
     # Surface faster than the ball (slip −u) must mirror the ball sliding at +u on a still
     # surface: same percussions and regime; on the scene's axis the tangential velocity and
-    # spin change sign, on the slip axis (API.md: ω in the sense Pt > 0 produces) they agree.
+    # spin change sign, on the slip axis (docs/theory.md: ω in the sense Pt > 0 produces) they
+    # agree.
     for u, mu in ((2.0, 0.1), (0.3, 0.5)):
         neg = sphere_on_plane(ball(surface_speed=u, mu=mu, e=0.7))
         pos = sphere_on_plane(ball(surface_speed=-u, mu=mu, e=0.7))
@@ -210,7 +213,7 @@ def test_two_body_free_sphere_target():
 def test_sphere_on_plane_obeys_coulomb_and_never_gains_energy(angle, speed, mu, e, spin, u, kappa):
     # In the frame of the (uniformly moving) surface: kinetic energy cannot rise, the
     # friction impulse obeys Coulomb (Pt ≤ μ·Pn), angular momentum about the contact point
-    # is conserved, and a rigid ball never reverses its slip (PHYSICS.md §3).
+    # is conserved, and a rigid ball never reverses its slip (docs/theory.md, Rigid bodies).
     sc = ball(angle_deg=angle, speed=speed, mu=mu, e=e, spin=spin, surface_speed=u, kappa=kappa)
     r = sphere_on_plane(sc)
     I = kappa * M * R**2  # noqa: E741
@@ -243,7 +246,7 @@ def test_array_scenes_match_loop_of_scalars():
 
 
 def test_broken_line_passes_through_the_vertices():
-    # PHYSICS.md §3: Pt_rigid(Pn) = min(μ·Pn, Pt_S) — through O, A and E2.
+    # docs/theory.md, Rigid bodies: Pt_rigid(Pn) = min(μ·Pn, Pt_S) — through O, A and E2.
     r = sphere_on_plane(ball(angle_deg=30.0, mu=0.4, e=0.9))
     assert r.regime == "sticking"
     np.testing.assert_allclose(r.broken_line(r.vertices[:, 1]), r.vertices[:, 0], rtol=1e-12)
@@ -264,7 +267,8 @@ def test_inverse_mass_matrix_of_a_sphere():
 
 @pytest.mark.parametrize("angle, mu", [(20.0, 0.4), (60.0, 0.1), (45.0, 0.35), (0.0, 0.3)])
 def test_sphere_all_three_laws_agree_with_sphere_on_plane(angle, mu):
-    # PHYSICS.md §2: for a sphere the contact normal passes through the centre of mass, so
+    # docs/theory.md, Restitution: for a sphere the contact normal passes through the centre of
+    # mass, so
     # Newton, Poisson and Stronge coincide; all equal Routh's construction.
     e = 0.7
     ref = sphere_on_plane(ball(angle_deg=angle, mu=mu, e=e))
@@ -283,7 +287,8 @@ def test_sphere_all_three_laws_agree_with_sphere_on_plane(angle, mu):
 
 
 def _rod_setup():
-    """Uniform slender rod, PHYSICS.md §3: m = 1 kg, L = 1 m, 40° to the ground, lower end
+    """Uniform slender rod, docs/theory.md, Rigid bodies: m = 1 kg, L = 1 m, 40° to the ground,
+    lower end
     strikes, v_G = (0.3, −1.0) m/s, ω = 0.
 
     Frame: x = t along the ground (the direction of the initial slip, since the end's
@@ -309,7 +314,8 @@ def _rod_KE_after(m, I, r, Pt, Pn, vG=(0.3, -1.0)):  # noqa: E741
 
 
 def test_slender_rod_newton_creates_energy_poisson_stronge_do_not():
-    # PHYSICS.md §3 check case (Kane's paradox, WM §4, STRONGE 1990): with μ = 0.8, e = 0.9
+    # docs/theory.md, Rigid bodies check case (Kane's paradox, WM §4, STRONGE 1990): with μ = 0.8, e
+    # = 0.9
     # the end slides, sticks during compression (|W_tn/W_tt| = 0.66 ≤ μ), and Newton's law
     # then raises the kinetic energy; Poisson's and Stronge's lower it.
     m, I, r, W, vt0, vn0 = _rod_setup()
@@ -540,7 +546,8 @@ def test_spin_convention_matches_the_simulator(u):
     """Rigid ω and v_t on the slip axis equal the compliant simulator's Coulomb limit.
 
     With tangential="coulomb" (no tangential compliance) the simulated end state is Routh's
-    (PHYSICS.md §3), and both report ω "positive in the sense that Pt > 0 produces" (API.md).
+    (docs/theory.md, Rigid bodies), and both report ω "positive in the sense that Pt > 0 produces"
+    (docs/theory.md, Sign conventions).
     """
     from pipeline.simulate import impact
 

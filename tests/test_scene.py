@@ -1,5 +1,5 @@
 """Tests of pipeline.Scene: validation, and derived properties against the hand formulas of
-PHYSICS.md §1 and §4 (effective two-body properties)."""
+docs/theory.md, Sign conventions and §4 (effective two-body properties)."""
 
 from __future__ import annotations
 
@@ -111,7 +111,7 @@ def test_mass_from_density():
 
 
 def test_effective_properties_two_spheres():
-    """PHYSICS.md §4: 1/m* = 1/m1 + 1/m2, 1/R* = 1/R1 + 1/R2, 1/E* = Σ(1−ν²)/E,
+    """docs/theory.md, Compliant contact: 1/m* = 1/m1 + 1/m2, 1/R* = 1/R1 + 1/R2, 1/E* = Σ(1−ν²)/E,
     1/G* = Σ(2−ν)/G with G = E/(2(1+ν))."""
     s = Scene(
         radius=0.01,
@@ -140,7 +140,8 @@ def test_rigid_target_moduli():
 
 
 def test_target_cap_radius():
-    """Garland–Rogers: ball on a spherical target cap; R* uses both radii (PHYSICS.md §5)."""
+    """Garland–Rogers: ball on a spherical target cap; R* uses both radii (Garland & Rogers
+    2009)."""
     s = base(radius=0.0254, target_radius=0.05)
     assert s.R_eff == pytest.approx(0.0254 * 0.05 / (0.0254 + 0.05), rel=1e-14)
     assert s.m_eff == pytest.approx(s.m, rel=1e-15)  # a fixed cap
@@ -166,7 +167,7 @@ def test_like_spheres_equal_halves():
 
 
 def test_velocity_components():
-    """PHYSICS.md §1: v_n0 = v·cos α, v_t0 = v·sin α − u, slip0 = v_t0 − ω·R."""
+    """docs/theory.md, Sign conventions: v_n0 = v·cos α, v_t0 = v·sin α − u, slip0 = v_t0 − ω·R."""
     s = base(speed=2.0, angle_deg=30.0, surface_speed=0.25, spin=10.0)
     assert s.v_n0 == pytest.approx(2.0 * math.sqrt(3) / 2, rel=1e-14)
     assert s.v_t0 == pytest.approx(1.0 - 0.25, rel=1e-14)

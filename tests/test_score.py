@@ -1,6 +1,7 @@
 """Deviation score: closed-form curves, simulated records with known truth, bootstrap.
 
-The broken line is Routh's rigid prediction for a sphere on a plane (PHYSICS.md §3; seed
+The broken line is Routh's rigid prediction for a sphere on a plane (docs/theory.md, Rigid bodies;
+seed
 eqs. 4–7, Ciornei et al. 2017, doi:10.1051/matecconf/201711207005).
 """
 
@@ -17,7 +18,7 @@ from pipeline.rigid import sphere_on_plane
 from pipeline.score import deviation_metrics, deviation_score, references
 from pipeline.simulate import impact
 
-# Chung & Ooi (2011) test 4 scene, doi:10.1007/s10035-011-0277-0 (PHYSICS.md §6)
+# Chung & Ooi (2011) test 4 scene, doi:10.1007/s10035-011-0277-0 (Chung & Ooi 2011)
 TEST4 = dict(radius=2.5e-3, density=4000.0, E=380e9, nu=0.23, speed=3.9, mu=0.092, e=0.98)
 
 #: "Near zero": a record that follows the broken line scores below these. The Coulomb

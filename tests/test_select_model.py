@@ -56,7 +56,8 @@ def sticking():
 
 def test_sliding_record_chooses_coulomb():
     """45°, μ = 0.1, e = 0.9: tan α = 1 > 3.5·μ·(1+e) = 0.67, the ball slides throughout
-    (PHYSICS.md §3) and the tangential spring never holds: compliant Coulomb is white at the
+    (docs/theory.md, Rigid bodies) and the tangential spring never holds: compliant Coulomb is
+    white at the
     noise level and is the simplest such model. The rigid model (impulses through the
     sensor's filter) is far from white on a record that resolves the contact; the elastic
     Hertz law cannot give e = 0.9."""
@@ -74,7 +75,8 @@ def test_sliding_record_chooses_coulomb():
 
 def test_sticking_15deg_record_chooses_mindlin(sticking):
     """The 15° sample needs tangential compliance: its Ft reverses, which no rigid or Coulomb
-    contact can do (PHYSICS.md §3–4). Hertz–Mindlin with Hunt–Crossley damping is white;
+    contact can do (docs/theory.md (Rigid bodies; Compliant contact)). Hertz–Mindlin with
+    Hunt–Crossley damping is white;
     every cheaper candidate is far from it (ΔAIC > 1000)."""
     scene, sel = sticking
     assert (sel.chosen, sel.chosen_normal) == ("mindlin", "hunt_crossley")

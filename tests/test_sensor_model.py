@@ -20,7 +20,7 @@ from pipeline.contact import hertz_impact, hertz_pulse
 from pipeline.record import make_record
 from pipeline.sensor_model import SensorSaturationWarning, to_sensor
 
-# Garland–Rogers-like scene (PHYSICS.md §5): 25.4 mm steel ball on a 25.4 mm steel cap.
+# Garland–Rogers-like scene (Garland & Rogers 2009): 25.4 mm steel ball on a 25.4 mm steel cap.
 SCENE = Scene(
     radius=0.0127,
     density=7850.0,

@@ -1,8 +1,10 @@
 """Tests of pipeline.simulate against closed forms and published numbers.
 
-Sources: PHYSICS.md §1, §3, §4, §6; Chung & Ooi, Granular Matter 13:643 (2011),
+Sources: docs/theory.md (Sign conventions; Rigid bodies; Compliant contact); Chung & Ooi 2011;
+Chung & Ooi, Granular Matter 13:643 (2011),
 doi:10.1007/s10035-011-0277-0 (benchmark tests 1–4); Johnson, Contact Mechanics (1985)
-eq. 11.24 (elastic impact); Routh's plane of percussions for the rigid sphere (PHYSICS.md §3).
+eq. 11.24 (elastic impact); Routh's plane of percussions for the rigid sphere (docs/theory.md,
+Rigid bodies).
 """
 
 from __future__ import annotations
@@ -89,7 +91,8 @@ def test_elastic_frictionless_conserves_kinetic_energy():
 # ------------------------------------------------------------------ energy balance
 def test_coulomb_friction_work_closed_form():
     """Sliding throughout on an elastic Hertz contact: dPt = μ·dPn and s = s0 − 3.5·Pt/m
-    (PHYSICS.md §1) give W = μ∫s dPn = μ·(s0·Pn_f − 3.5·μ·Pn_f²/(2m)), Pn_f = 2·m·v_n0."""
+    (docs/theory.md, Sign conventions) give W = μ∫s dPn = μ·(s0·Pn_f − 3.5·μ·Pn_f²/(2m)), Pn_f =
+    2·m·v_n0."""
     scene = al_oxide(angle=60.0, e=1.0)
     a = impact(scene, normal="hertz", tangential="coulomb").attrs
     m, mu = scene.m, scene.mu
@@ -155,7 +158,7 @@ def test_energy_balance_for_every_normal_law(law):
 def test_calibrated_restitution(law):
     """Chung & Ooi (2011) test 3: a damped law must return the requested e (R = 2.5 mm Al
     oxide at 3.9 m/s); we require |e_n − e| ≤ 0.001 for e in {0.1 … 0.98}. Every law here
-    reaches all of (0, 1] (PHYSICS.md §4), so none may refuse one of these."""
+    reaches all of (0, 1] (docs/theory.md, Compliant contact), so none may refuse one of these."""
     for e in (0.1, 0.3, 0.5, 0.7, 0.9, 0.98):
         a = impact(al_oxide(e=e), normal=law, tangential="none", samples=201).attrs
         assert abs(a["e_n"] - e) <= 1e-3, (law, e, a["e_n"])
@@ -173,7 +176,8 @@ def test_calibration_batch_path_hunt_crossley_family():
 
 
 def test_alpha_material_constant_lowers_e_with_speed():
-    """Fixed α = c/v0 (PHYSICS.md §4): e falls as the speed rises, and at the speed where
+    """Fixed α = c/v0 (docs/theory.md, Compliant contact): e falls as the speed rises, and at the
+    speed where
     α was calibrated e is reproduced."""
     sc = al_oxide(e=0.8)
     c = contact.calibrate_hunt_crossley_family(0.8)
@@ -192,7 +196,7 @@ def test_alpha_material_constant_lowers_e_with_speed():
 # ------------------------------------------------------------------ rigid limit
 @pytest.mark.parametrize("angle, regime", [(60.0, "sliding"), (15.0, "sticking")])
 def test_coulomb_reproduces_rigid_end_point(angle, regime):
-    """PHYSICS.md §3 (Routh; seed eqs. 6–7): the end point E1 (Pt/Pn = μ) when
+    """docs/theory.md, Rigid bodies (Routh; seed eqs. 6–7): the end point E1 (Pt/Pn = μ) when
     tan α ≥ 3.5·μ·(1+e), else E2 (Pt/Pn = (2/7)·v_t0/((1+e)·v_n0))."""
     e, mu = 0.8, 0.092
     scene = Scene(
@@ -229,7 +233,7 @@ def test_two_free_spheres_stick_with_zero_final_slip():
 # ------------------------------------------------------------------ tangential compliance
 @pytest.mark.parametrize("history", ["total", "incremental"])
 def test_mindlin_force_reverses_at_15_deg_not_at_60(history):
-    """PHYSICS.md §6, Chung & Ooi test 4 (μ = 0.092, e = 0.98): at 15° the tangential force
+    """Chung & Ooi 2011, Chung & Ooi test 4 (μ = 0.092, e = 0.98): at 15° the tangential force
     changes sign before separation (compliance, Maw et al. 1976); at 60° the ball slides
     throughout (tan 60° > 3.5·μ·(1+e)), so Ft = μ·Fn > 0 all the time."""
     rec = impact(al_oxide(angle=15.0, e=0.98), tangential="mindlin", history=history)
@@ -246,7 +250,8 @@ def _dem_e_t(angle, history, steps_per_tc=20000):
     """e_t of Chung & Ooi test 4 from an explicit DEM time loop written here, independently
     of pipeline.simulate and pipeline.contact's Mindlin helpers: semi-implicit Euler at
     dt = t_c/20000, Hunt–Crossley normal force (c for e = 0.98 from the exact relation of
-    PHYSICS.md §4), k_t = 8·G*·√(R·δ), and the per-step history updates as the DEM codes
+    docs/theory.md, Compliant contact), k_t = 8·G*·√(R·δ), and the per-step history updates as the
+    DEM codes
     write them (LAMMPS GRANULAR, gran_sub_mod_tangential.cpp: "for linear, mindlin,
     mindlin_rescale: history = cumulative tangential displacement; for mindlin/force,
     mindlin_rescale/force: history = cumulative tangential elastic force"):
@@ -292,7 +297,8 @@ def _dem_e_t(angle, history, steps_per_tc=20000):
     ],
 )
 def test_mindlin_history_rules_chung_ooi_test4(angle, history, published):
-    """Chung & Ooi test 4 (PHYSICS.md §4, §6). At 10° PHYSICS.md gives e_t 0.698 for the
+    """Chung & Ooi test 4 (docs/theory.md, Compliant contact; Chung & Ooi 2011). At 10°
+    docs/theory.md gives e_t 0.698 for the
     total-displacement rule (LAMMPS mindlin) and 0.714 for the incremental rule (YADE,
     LAMMPS mindlin/force). At 5° it quotes "0.89 vs 0.95" without naming which rule gives
     which; the independent DEM loop above settles it — total 0.952, incremental 0.893 —
@@ -306,7 +312,7 @@ def test_mindlin_history_rules_chung_ooi_test4(angle, history, published):
 @pytest.mark.parametrize("angle", [45.0, 60.0, 80.0])
 def test_mindlin_follows_rigid_theory_above_32_5_deg(angle):
     """Chung & Ooi test 4: above tan⁻¹(3.5·μ·(1+e)) = 32.5° the ball slides throughout and
-    e_t = 1 − μ(1+e)/tan α (PHYSICS.md §3)."""
+    e_t = 1 − μ(1+e)/tan α (docs/theory.md, Rigid bodies)."""
     e, mu = 0.98, 0.092
     a = impact(al_oxide(angle=angle, e=e), tangential="mindlin").attrs
     assert a["e_t"] == pytest.approx(1 - mu * (1 + e) / math.tan(math.radians(angle)), abs=1e-6)
@@ -314,7 +320,7 @@ def test_mindlin_follows_rigid_theory_above_32_5_deg(angle):
 
 def test_rolling_contact_has_no_tangential_force():
     """A ball spinning so that its contact point does not slip (ω·R = v_t0) meets no
-    friction: s0 = v_t0 − ω·R = 0 (PHYSICS.md §1)."""
+    friction: s0 = v_t0 − ω·R = 0 (docs/theory.md, Sign conventions)."""
     sc = al_oxide(angle=30.0, e=0.98)
     sc = sc.replace(spin=sc.v_t0 / sc.radius)
     rec = impact(sc, tangential="mindlin")
@@ -325,7 +331,8 @@ def test_rolling_contact_has_no_tangential_force():
 
 def test_surface_speed_reverses_the_tangential_axis():
     """A target surface faster than the ball's tangential speed makes the initial slip
-    negative; outputs flip so Ft > 0 still opposes the initial slip (PHYSICS.md §1), and
+    negative; outputs flip so Ft > 0 still opposes the initial slip (docs/theory.md, Sign
+    conventions), and
     the relative slip v_t0 = v·sin α − u sets the rigid sliding result."""
     sc = al_oxide(angle=60.0, e=0.98)
     u = 2.0 * sc.v_t0
@@ -335,7 +342,8 @@ def test_surface_speed_reverses_the_tangential_axis():
     # relative slip −v_t0 is as large as before, so sliding throughout: e_t as for +v_t0
     ref = impact(sc, tangential="coulomb").attrs["e_t"]
     assert rec.attrs["e_t"] == pytest.approx(ref, rel=1e-9)
-    # omega > 0 in the sense Pt > 0 produces (API.md): Pt = μ(1+e)·m·v_n0 (E1, PHYSICS.md §3)
+    # omega > 0 in the sense Pt > 0 produces (docs/theory.md, Sign conventions): Pt = μ(1+e)·m·v_n0
+    # (E1, docs/theory.md, Rigid bodies)
     m, I = sc.m, sc.kappa * sc.m * sc.radius**2
     Pt = sc.mu * (1 + sc.e) * m * sc.v_n0
     assert rec.attrs["Pt_final"] == pytest.approx(Pt, rel=1e-6)
@@ -344,9 +352,11 @@ def test_surface_speed_reverses_the_tangential_axis():
 
 def test_spin_against_the_slip_reports_on_the_initial_slip_axis():
     """Topspin larger than v_t0/R: the contact point slips backwards, s0 = v_t0 − ω0·R < 0,
-    although v_t0 > 0. PHYSICS.md §1 / API.md: Pt > 0 opposes the INITIAL slip, omega is
+    although v_t0 > 0. docs/theory.md, Sign conventions / the API: Pt > 0 opposes the INITIAL slip,
+    omega is
     positive in the sense Pt > 0 produces, so on that axis ω = −ω0 + Pt·R/I. Sticking
-    (μ(1+e)·v_n0 > (2/7)·|s0|, PHYSICS.md §3): Pt = (2/7)·m·|s0|, the contact point stops
+    (μ(1+e)·v_n0 > (2/7)·|s0|, docs/theory.md, Rigid bodies): Pt = (2/7)·m·|s0|, the contact point
+    stops
     (v_t − ω·R = 0 on either axis), and the centre speeds up: e_t = 1 + (2/7)·|s0|/v_t0."""
     sc = Scene(
         radius=2.5e-3, density=4000.0, E=380e11, nu=0.23, speed=3.9, angle_deg=20.0, mu=0.5, e=0.9
@@ -610,7 +620,8 @@ def test_tangential_history_on_the_hertz_pulse_follows_impact(history, angle):
 
 
 def test_tangential_history_coulomb_is_routh_broken_line():
-    """Coulomb friction on any normal history: Pt = min(μ·Pn, m_t·s0) (PHYSICS.md §3)."""
+    """Coulomb friction on any normal history: Pt = min(μ·Pn, m_t·s0) (docs/theory.md, Rigid
+    bodies)."""
     from pipeline.simulate import tangential_history
 
     n = 400
@@ -654,7 +665,8 @@ def test_every_law_both_paths_agree_obey_coulomb_and_reach_the_rigid_limit(
     n_steps = 400 is |Δe_t| < 1e-4 for the laws not smooth at first contact and < 2e-5 for
     the others (impact_outcomes docstring); both are checked at 2e-4. (ii) Coulomb's law
     holds at every accepted step of both paths: |Ft| ≤ μ·Fn up to rounding (1e-9).
-    (iii) Where a rigid ball slides throughout (tan θ ≥ 3.5·μ·(1 + e), PHYSICS.md §3) with a
+    (iii) Where a rigid ball slides throughout (tan θ ≥ 3.5·μ·(1 + e), docs/theory.md, Rigid
+    bodies) with a
     wide margin (θ ≥ 45°, tan θ > 3.5·μ·(1+e)·2.2), a contact whose force stays positive
     until δ = 0 (Hertz, Hunt–Crossley family) slides throughout too, and e_t = 1 −
     μ(1 + e_n)/tan θ (Routh) to 1e-6. The laws that let go at δ > 0 (dashpot,

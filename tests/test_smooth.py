@@ -7,7 +7,8 @@
   computed here with explicit sums / an explicit inverse;
 - the quartic fit of the exact elastic Hertz pulse (pipeline.contact.hertz_pulse; Johnson,
   Contact Mechanics 1985, doi:10.1017/CBO9781139171731) leaves ≈0.8 % of F_max at the
-  pulse ends (PHYSICS.md §4) and its residuals are structured; white noise is not.
+  pulse ends (docs/theory.md, Compliant contact) and its residuals are structured; white noise is
+  not.
 """
 
 from __future__ import annotations
@@ -148,7 +149,8 @@ def test_batched_and_single_fits_agree(end_constraints):
 
 
 def test_quartic_of_hertz_pulse_leaves_ends_and_is_flagged():
-    # PHYSICS.md §4: the quartic fit of the exact elastic pulse leaves ≈0.8 % of F_max at
+    # docs/theory.md, Compliant contact: the quartic fit of the exact elastic pulse leaves ≈0.8 % of
+    # F_max at
     # the pulse ends. Dense sampling (2001 samples) approximates the continuous L2 fit,
     # whose end value is 0.82 % of F_max (recomputed: 0.823 % with 10 000 samples).
     rng = np.random.default_rng(3)

@@ -2,7 +2,7 @@
 
 Ground truth is the exact elastic Hertz history (pipeline.contact.hertz_pulse; Johnson,
 Contact Mechanics, CUP 1985, §11.4, doi:10.1017/CBO9781139171731) for a 25.4 mm steel ball
-on a steel cap at 0.5 m/s (PHYSICS.md §5 table: F_max ≈ 1.2 kN, t_c ≈ 101 µs), with
+on a steel cap at 0.5 m/s (Garland & Rogers 2009 table: F_max ≈ 1.2 kN, t_c ≈ 101 µs), with
 offset, drift, white noise and pre-/post-trigger samples added here with numpy.
 """
 
@@ -30,7 +30,7 @@ SCENE = Scene(
     radius=0.0127, density=7800.0, E=200e9, nu=0.3, target_E=200e9, target_nu=0.3, speed=0.5
 )
 IMPACT = hertz_impact(SCENE)
-FS = 1e6  # sampling rate [Hz]: ~100 samples per contact (PHYSICS.md §5)
+FS = 1e6  # sampling rate [Hz]: ~100 samples per contact (Garland & Rogers 2009)
 T0 = 1.5e-3 + 0.37e-6  # true contact start, off the sample grid [s]
 SIGMA_N, SIGMA_T = 2.0, 1.5  # white noise [N]
 OFFSET_N, DRIFT_N = 15.0, 2.0e4  # [N], [N/s]
@@ -79,7 +79,7 @@ def test_sensor_window_recovers_start_end_noise_and_impulse():
     assert w.baseline["Fn"](0.0) == pytest.approx(OFFSET_N, abs=0.5)
     assert w.baseline["Fn"].slope == pytest.approx(DRIFT_N, rel=0.05)
     assert w.baseline["Ft"].slope == pytest.approx(DRIFT_T, rel=0.2)
-    # impulse after baseline removal: Pn(t_c) = 2·m*·v0 (PHYSICS.md §4)
+    # impulse after baseline removal: Pn(t_c) = 2·m*·v0 (docs/theory.md, Compliant contact)
     t = np.concatenate([[w.t_start], w.record["time"].values, [w.t_end]])
     Fn = np.concatenate([[0.0], w.record["Fn"].values, [0.0]])
     Pn = integrate.trapezoid(Fn, t)
