@@ -65,7 +65,14 @@ from ._json import json_ready
 from .errors import InputError
 from .scene import Scene
 
-__all__ = ["Advice", "advise", "LADDER", "QUANTITIES", "mbf_groups"]
+__all__ = [
+    "advice_for",
+    "Advice",
+    "advise",
+    "LADDER",
+    "QUANTITIES",
+    "mbf_groups",
+]
 
 #: The tangential ladder, cheapest first.
 LADDER = ("rigid", "coulomb", "mindlin")
@@ -128,6 +135,17 @@ class Advice:
                 "eta": self.eta,
             }
         )
+
+
+def advice_for(scene: Scene, **options) -> Advice | None:
+    """:func:`advise` for a scene that gives what it needs (E, ν, μ, e), else None: what
+    ``pipeline analyse`` and the report show beside an analysis (its ``rigid_scene``)."""
+    if any(getattr(scene, name) is None for name in ("E", "nu", "mu", "e")):
+        return None
+    try:
+        return advise(scene, **options)
+    except InputError:  # e.g. both bodies rigid: no compliant model to judge against
+        return None
 
 
 def mbf_groups(scene: Scene) -> tuple[float, float, float]:

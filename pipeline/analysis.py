@@ -34,6 +34,7 @@ from . import smooth as _smooth
 from . import window as _window
 from ._json import json_ready
 from .errors import InputError
+from .plausibility import check_plausible
 from .record import channel
 from .scene import Scene
 
@@ -159,6 +160,10 @@ class Analysis:
     outcomes : Outcomes
         Restitution, spin and rebound angle measured from the ``source`` percussions, with
         bootstrap standard deviations.
+    plausibility : pipeline.plausibility.Plausibility
+        The record's contact duration, peak force and impulse against the scene's Hertz
+        and momentum estimates (:func:`pipeline.plausibility.check_plausible`), checked
+        before any physics.
     """
 
     scene: Scene
@@ -177,6 +182,7 @@ class Analysis:
     resolution: object = None
     model_selection: object = None
     outcomes: Outcomes | None = None
+    plausibility: object = None
 
     @property
     def fitted(self) -> dict:
@@ -256,6 +262,7 @@ class Analysis:
                 "score_fit": self.score_fit.summary(),
                 "resolution": None if self.resolution is None else self.resolution.summary(),
                 "outcomes": None if self.outcomes is None else self.outcomes.summary(),
+                "plausibility": None if self.plausibility is None else self.plausibility.summary(),
             }
         )
 
@@ -436,19 +443,27 @@ def analyse(
     ------
     InputError
         No Scene, a record without an ``Ft`` channel, an unknown ``source``, or any stage's
-        bad-input error (no contact pulse, too few samples, ...).
+        bad-input error (no contact pulse, too few samples, ...); a
+        :class:`~pipeline.errors.UnitMismatchError` when the record's duration, peak or
+        impulse is off the scene's by a power of 10³ (:mod:`pipeline.plausibility`).
+
+    Warns
+    -----
+    ContactTimeWarning, PeakForceWarning, ImpulseWarning
+        A record implausible for its scene, but not by a unit factor.
     """
     if not isinstance(scene, Scene):
         raise InputError("analyse needs a pipeline.Scene describing the impact")
     if source != "auto" and source not in _perc.SOURCES:
         raise InputError(f"source {source!r} is unknown; use 'auto' or one of {_perc.SOURCES}")
+    win = _window.find_contact(record, **(window_options or {}))  # the record's own checks
+    plausibility = check_plausible(record, scene, window=win)  # against the scene
     if "Ft" not in record:
         raise InputError(
             "the record has no tangential channel Ft: nothing to score against "
             "the rigid broken line (pipeline.percussion still gives Pn and e)",
             path=record.attrs.get("source"),
         )
-    win = _window.find_contact(record, **(window_options or {}))
     fits = _smooth.fit_window(
         win, method="polynomial", degree=degree, end_constraints=end_constraints
     )
@@ -529,6 +544,7 @@ def analyse(
         resolution=res,
         model_selection=selection,
         outcomes=outcomes,
+        plausibility=plausibility,
     )
 
 

@@ -43,11 +43,11 @@ import numpy as np
 from . import figures
 from ._atomic import atomic_dir, atomic_write_text, clean_stale
 from ._json import json_ready
+from .advice import advice_for
 from .analysis import Analysis, analyse
 from .errors import InputError
 from .io import load, load_contact, read_json
 from .percussion import compression_split, percussions
-from .plausibility import check_plausible
 from .scene import Scene
 from .window import find_contact
 
@@ -56,7 +56,6 @@ __all__ = [
     "LOAD_KEYS",
     "Findings",
     "findings",
-    "check_and_analyse",
     "fitted_parameters",
     "fitted_parameters_md",
     "load_sample",
@@ -285,27 +284,8 @@ def _ingest_only(path: Path) -> dict:
     }
 
 
-def check_and_analyse(record, scene: Scene, *, n_boot: int = 200, seed: int = 0, **options):
-    """A record's plausibility checks against its scene, then its analysis: what
-    ``pipeline analyse`` and :func:`reproduce` run for each record (``options``: the other
-    keyword arguments of :func:`pipeline.analyse`).
-
-    Returns
-    -------
-    (Analysis, Plausibility)
-
-    Raises
-    ------
-    InputError
-        The checks' errors (:func:`pipeline.window.find_contact`,
-        :func:`pipeline.plausibility.check_plausible`) before any physics, or analyse's.
-    """
-    checks = check_plausible(record, scene, window=find_contact(record))
-    return analyse(record, scene, n_boot=n_boot, seed=seed, **options), checks
-
-
 def _analyse_sample(path, scene, n_boot, seed):
-    return check_and_analyse(load_sample(path), scene, n_boot=n_boot, seed=seed)
+    return analyse(load_sample(path), scene, n_boot=n_boot, seed=seed)
 
 
 def _one(path: Path, n_boot: int, seed: int):
@@ -320,12 +300,13 @@ def _one(path: Path, n_boot: int, seed: int):
             entry, msgs = _quiet(_ingest_only, path)
             a = None
         else:
-            (a, checks), msgs = _quiet(_analyse_sample, path, scene, n_boot, seed)
+            a, msgs = _quiet(_analyse_sample, path, scene, n_boot, seed)
+            advice = advice_for(a.rigid_scene)
             entry = {
                 "file": path.name,
                 **a.summary(),
-                "plausibility": checks.summary(),
                 "findings": findings(a).summary(),
+                "advice": None if advice is None else advice.summary(),
             }
         entry = {"status": "ok", **entry, "warnings": msgs}
         return entry, a
@@ -526,28 +507,34 @@ def _report_md(main, a: Analysis, f: Findings, records, analyses, provenance="")
         f"## All {len(records)} records",
         "",
         "| record | regime | area | max distance | Pt drop | compression area | "
-        "restitution area | e (Poisson) |",
-        "|---|---|---|---|---|---|---|---|",
+        "restitution area | e (Poisson) | model needed |",
+        "|---|---|---|---|---|---|---|---|---|",
     ]
     for r in records:
         name = r["file"]
         if r["status"] == "failed":
-            lines.append(f"| {name} | failed: {r['error']} |  |  |  |  |  |  |")
+            lines.append(f"| {name} | failed: {r['error']} |  |  |  |  |  |  |  |")
         elif name in analyses:
             x = analyses[name]
+            advice = r.get("advice")
             lines.append(
                 f"| {name} | {x.rigid.regime} | {_pm(x.score, 'total', 'area')} | "
                 f"{_pm(x.score, 'total', 'max_distance')} | "
                 f"{_pm(x.score, 'total', 'Pt_drop')} | "
                 f"{_pm(x.score, 'compression', 'area')} | "
-                f"{_pm(x.score, 'restitution', 'area')} | {x.split.e_poisson:.4f} |"
+                f"{_pm(x.score, 'restitution', 'area')} | {x.split.e_poisson:.4f} | "
+                f"{'—' if advice is None else advice['model']} |"
             )
         else:
             lines.append(
                 f"| {name} | no scene (ingested only) |  |  |  |  |  | "
-                f"{r['e_poisson_closure']:.4f} (closure) |"
+                f"{r['e_poisson_closure']:.4f} (closure) |  |"
             )
     lines += [
+        "",
+        "*Model needed*: the cheapest of rigid < coulomb < mindlin whose e_t, ω and Pt(Pn) "
+        "stay within 1e-3 of the full Hertz–Mindlin model for the record's scene "
+        "(`pipeline.advise`; the reason for each is in `summary.json`, `advice`).",
         "",
         "Figures: `fig4_percussion_plane.png` (seed Fig. 4), `fig6_disc_velocity.png` "
         "(analogue of seed Fig. 6), `fig8_forces.png` (seed Fig. 8), "

@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from pipeline import Scene
+from pipeline import Scene, analyse
 from pipeline.cli._common import read_scene
 from pipeline.contact import hertz_impact, hertz_pulse
 from pipeline.errors import (
@@ -38,7 +38,7 @@ from pipeline.errors import (
 )
 from pipeline.io import write_sensor
 from pipeline.record import make_record
-from pipeline.report import check_and_analyse, load_sample
+from pipeline.report import load_sample
 
 SAMPLES = Path(__file__).resolve().parents[1] / "data_samples"
 GR = SAMPLES / "gr_15deg_0.6ms.csv"
@@ -54,7 +54,7 @@ def run(path, scene=None):
     """What ``pipeline analyse path [--scene scene]`` does, returning the Analysis."""
     record = load_sample(path)
     sc, _ = read_scene(path, scene, record)
-    return check_and_analyse(record, sc, n_boot=0)[0]
+    return analyse(record, sc, n_boot=0)
 
 
 # ------------------------------------------------------------------------------ makers

@@ -128,12 +128,12 @@ def test_every_bad_argument_is_one_line_and_exit_2(capsys, argv, fragment):
 
 
 def test_an_internal_error_is_one_line_and_exit_3(capsys, monkeypatch):
-    import pipeline.report
+    import pipeline.analysis
 
     def broken(*args, **kwargs):
         raise ZeroDivisionError("a bug")
 
-    monkeypatch.setattr(pipeline.report, "analyse", broken)
+    monkeypatch.setattr(pipeline.analysis, "analyse", broken)
     code, _, err = _run(capsys, "analyse", MAIN, "--boot", 0)
     assert code == 3
     assert (
@@ -224,3 +224,12 @@ def test_bad_sidecars_fail_their_record_with_the_sidecar_named(tmp_path, sidecar
     assert bad["status"] == "failed" and fragment in bad["error"], bad["error"]
     assert "x.json" in bad["error"]
     assert summary["findings"] is not None  # the main record went on
+
+
+def test_analyse_names_the_model_the_scene_needs(capsys):
+    """The 15° sample sticks (tan 15° < 3.5·μ·(1+e), docs/theory.md, Rigid bodies), where
+    tangential compliance shapes Pt(Pn): advise says Mindlin, in the text and in the JSON."""
+    code, out, _ = _run(capsys, "analyse", MAIN, "--boot", 0)
+    assert code == 0 and "model needed (tol 0.001): mindlin — sticking" in out
+    code, out, _ = _run(capsys, "analyse", MAIN, "--boot", 0, "--json")
+    assert code == 0 and json.loads(out)["advice"]["model"] == "mindlin"

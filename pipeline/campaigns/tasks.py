@@ -326,15 +326,13 @@ class Analysed:
 
 
 def _analysis_of(task: RecordTask, **override) -> Analysed:
-    """The record's plausibility checks against its scene, then its
-    :class:`~pipeline.analysis.Analysis` (options overridden by ``override``), as
-    ``pipeline analyse`` and ``reproduce`` run them, and its fitted parameters."""
-    from ..plausibility import check_plausible
+    """The record's :class:`~pipeline.analysis.Analysis` (its plausibility checks first;
+    options overridden by ``override``), as ``pipeline analyse`` and ``reproduce`` run it,
+    and its fitted parameters."""
     from ..report import load_sample
 
     rec = load_sample(task.path)
     scene, source = _task_scene(task, rec)
-    check_plausible(rec, scene)
     a = analyse(rec, scene, **{**task.options, **override})
     boot = {k: task.options[k] for k in ("n_boot", "seed") if k in task.options}
     return Analysed(a, _fit_numbers(rec, scene, **boot) if task.fit else {}, source)

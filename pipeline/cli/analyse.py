@@ -68,13 +68,15 @@ def _how(text):
 
 
 def run(args) -> int:
-    from ..report import check_and_analyse, read_sidecar
+    from ..advice import advice_for
+    from ..analysis import analyse
+    from ..report import read_sidecar
 
     record = read_record(args.file, args)
     scene, sources = read_scene(args.file, args.scene, record)
     sensor = read_sidecar(args.file).get("sensor")  # a calibrated rig's, for the fits
     with log_warnings():
-        a, checks = check_and_analyse(
+        a = analyse(
             record,
             scene,
             n_boot=args.boot,
@@ -85,22 +87,30 @@ def run(args) -> int:
             e=args.e,
             fit_options={"sensor": sensor} if sensor else None,
         )
-    out = {**a.summary(), "scene_sources": sources, "plausibility": checks.summary()}
-    text = _readable(a, sources, checks)
+    advice = advice_for(a.rigid_scene)
+    out = {
+        **a.summary(),
+        "scene_sources": sources,
+        "advice": None if advice is None else advice.summary(),
+    }
+    text = _readable(a, sources, a.plausibility, advice)
     if args.out is not None:
         _write(args.out, a, out, text)
     print(json.dumps(out, indent=1, allow_nan=False) if args.json else text)
     return 0
 
 
-def _readable(a, sources: dict, checks) -> str:
-    """:meth:`pipeline.analysis.Analysis.describe` and where the scene's values came from."""
+def _readable(a, sources: dict, checks, advice=None) -> str:
+    """:meth:`pipeline.analysis.Analysis.describe`, where the scene's values came from, the
+    plausibility checks, and the cheapest model accurate enough for the scene."""
     lines = [a.describe(), "", "scene values and where they came from:"]
     for name, value in a.scene.to_dict().items():
         lines.append(f"  {name:14s} {value:<12.6g} {sources.get(name, 'default')}")
     status = {k: v.get("status") for k, v in checks.summary().items() if isinstance(v, dict)}
     if status:
         lines += ["", "plausibility: " + ", ".join(f"{k} {v}" for k, v in status.items())]
+    if advice is not None:
+        lines += ["", f"model needed (tol {advice.tol:g}): {advice.model} — {advice.reason}"]
     return "\n".join(lines)
 
 
