@@ -159,8 +159,10 @@ def contact_from(obj, *, scene=None) -> Contact:
     (:func:`pipeline.fit_contact`: ``.values`` and the scene it was fitted with); a mapping
     or JSON file holding the values as ``"values"`` ({name: number}) or as a fit summary's
     ``"parameters"`` ({name: {"value": number, ...}}, what ``pipeline fit --out`` writes in
-    ``fit.json``), with the scene as ``"scene"`` (Scene fields) or given as ``scene=``; or a
-    flat mapping / sidecar of Scene fields. A value not fitted comes from the scene.
+    ``fit.json``, with its scene; a model selection's summary gives its chosen fit), with the
+    scene as ``"scene"`` (Scene fields) or given as ``scene=``; or a flat mapping / sidecar
+    of Scene fields. A value not fitted comes from the scene; a fit of α gives e as the
+    restitution it implies (``e_n``).
 
     Parameters
     ----------
@@ -173,7 +175,7 @@ def contact_from(obj, *, scene=None) -> Contact:
         return _contact(obj, {}, "scene")
     fit_scene = getattr(getattr(obj, "data", None), "scene", getattr(obj, "scene", None))
     if hasattr(obj, "values") and fit_scene is not None and not isinstance(obj, dict):
-        return _contact(scene or fit_scene, dict(obj.values), "fit")
+        return _contact(scene or fit_scene, _fitted(obj.values, getattr(obj, "physics", {})), "fit")
     path = None
     if isinstance(obj, (str, Path)):
         path = Path(obj)
@@ -187,8 +189,11 @@ def contact_from(obj, *, scene=None) -> Contact:
         raise InputError(
             "a contact to export is a fit, a Scene or a JSON object with 'scene'", path=path
         )
+    if "chosen" in obj and isinstance(obj.get("fit"), dict):
+        obj = obj["fit"]  # a model selection: the chosen model's fit
     values = obj.get("values", obj.get("parameters", {}))
     values = {k: (v["value"] if isinstance(v, dict) else v) for k, v in values.items()}
+    values = _fitted(values, obj.get("physics") or {})
     if scene is None:
         fields = obj.get("scene")
         if fields is None and not ({"values", "parameters"} & set(obj)):
@@ -203,7 +208,18 @@ def contact_from(obj, *, scene=None) -> Contact:
     return _contact(scene, values, str(path) if path else "mapping")
 
 
+def _fitted(values, physics) -> dict:
+    """The fitted values, with e from the fit's e_n where it fitted α (e = e(α, v0))."""
+    values = dict(values)
+    if values.get("e") is None and physics.get("e_n") is not None:
+        values["e"] = physics["e_n"]
+    return values
+
+
 def _contact(scene: Scene, values: dict, source: str) -> Contact:
+    # the fitted μ and e stand in for a scene that did not know them
+    known = {k: float(values[k]) for k in ("mu", "e") if values.get(k) is not None}
+    scene = scene.replace(**known)
     scene.require("mu", "e", why="an export")
     try:
         E_eff = float(values.get("E_eff", scene.E_eff))
@@ -212,8 +228,8 @@ def _contact(scene: Scene, values: dict, source: str) -> Contact:
     return Contact(
         scene=scene,
         E_eff=E_eff,
-        e=float(values.get("e", scene.e)),
-        mu=float(values.get("mu", scene.mu)),
+        e=float(scene.e),
+        mu=float(scene.mu),
         kt_scale=float(values.get("kt_scale", 1.0)),
         source=source,
     )

@@ -241,16 +241,17 @@ def apply_window(record: xr.Dataset, window: ContactWindow) -> xr.Dataset:
     t = record["time"].values
     # a tolerance of a few ulp keeps samples that sit exactly on the window's ends
     tol = 4 * np.finfo(float).eps * max(abs(window.t_start), abs(window.t_end), 1e-300)
-    keep = (t >= window.t_start - tol) & (t <= window.t_end + tol)
-    out = record.copy(deep=True)
+    idx = np.flatnonzero((t >= window.t_start - tol) & (t <= window.t_end + tol))
+    if idx.size and idx[-1] - idx[0] + 1 == idx.size:  # sorted times: one slice
+        idx = slice(int(idx[0]), int(idx[-1]) + 1)
+    # select first, then copy: only the window's samples are copied (the input stays as is)
+    out = record.isel(time=idx).copy(deep=True)
     removed = False
     for name, base in window.baseline.items():
-        if name in out and (base.offset != 0 or base.slope != 0):
-            out[name] = out[name] - base(t)
-            out[name].attrs = dict(record[name].attrs)
+        if name in out.data_vars and (base.offset != 0 or base.slope != 0):
+            var = out.variables[name]
+            var.values = var.values - base(t[idx])
             removed = True
-    out = out.isel(time=np.flatnonzero(keep))
-    out.attrs = dict(record.attrs)
     out.attrs.update(
         window_t_start=float(window.t_start),
         window_t_end=float(window.t_end),

@@ -159,7 +159,7 @@ def test_contact_from_fit_json_scene_and_errors(tmp_path):
     c = contact_from(f)
     assert (c.E_eff, c.mu, c.e, c.kt_scale) == (9e10, 0.2, CAP.e, 1.0)
     assert contact_from(SIDECAR).E_eff == pytest.approx(float(CAP.E_eff))
-    # a fit summary (pipeline fit --out DIR writes fit.json) holds parameters, not its scene
+    # parameters without a scene (a summary written by hand): the scene must be given
     summary = tmp_path / "summary.json"
     summary.write_text(json.dumps({"parameters": {"mu": {"value": 0.3, "vary": True}}}))
     with pytest.raises(InputError, match="does not hold its scene: give the scene too"):
@@ -174,3 +174,27 @@ def test_contact_from_fit_json_scene_and_errors(tmp_path):
         contact_from(CAP.replace(mu=None))
     with pytest.raises(InputError, match=r"e = 1\.5: give a restitution"):
         Contact(CAP, 1e11, 1.5, 0.1)
+
+
+def test_a_fit_summary_carries_its_scene_so_it_exports_alone(tmp_path):
+    """`pipeline fit --out` then `pipeline export fit.json`: the summary holds the scene the
+    fit used; μ and e the scene did not know come from the fit (not an error)."""
+    from pipeline.cli import main
+    from pipeline.fit import fit_contact
+    from pipeline.io import load
+
+    rec = ROOT / "data_samples" / "gr_45deg_0.6ms.csv"
+    scene = Scene.from_dict(json.loads(rec.with_suffix(".json").read_text())["scene"])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        fit = fit_contact(load(rec), scene.replace(mu=None, e=None), n_boot=0)
+    f = tmp_path / "fit.json"
+    f.write_text(json.dumps(fit.summary(), allow_nan=False))
+    c = contact_from(f)
+    for name in ("E_eff", "mu", "e"):
+        assert getattr(c, name) == pytest.approx(fit.values[name], rel=1e-12), name
+    assert c.scene.radius == scene.radius and c.scene.target_radius == scene.target_radius
+    # the CLI: fit, then export the fit file with no --scene
+    out = tmp_path / "fit"
+    assert main(["fit", str(rec), "--boot", "0", "--out", str(out)]) == 0
+    assert main(["export", str(out / "fit.json"), "--to", "yade"]) == 0

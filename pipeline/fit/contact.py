@@ -221,6 +221,7 @@ class ContactFit(FitResult):
             {
                 "source": d.record.attrs.get("source", ""),
                 "sha256": d.record.attrs.get("sha256", ""),
+                "scene": d.scene.to_dict(),
                 "model": {
                     "normal": self.normal,
                     "tangential": self.tangential,
@@ -515,7 +516,7 @@ def fit_model(record, scene, model, vary, *, t_begin=None, **options) -> Contact
     init.update(start)
     kw = run_fit(model, [data], design, init, vary, notes, n_boot=n_boot, seed=seed)
     P = design.local(kw["theta"][None, :])[0]
-    sol = model.solve([data], [P])[0]
+    sol = kw["problem"].solution(kw["theta"])[0]
     kw.update(data=data, physics=model.physics(data, P, sol))
     leak = fy_tracks_fn(data, model.predict(data, P, sol)[0][0])
     if leak is not None:

@@ -82,6 +82,7 @@ class Problem:
         self.n_data = int(self.y.size)
         self.n_calls = 0
         self._last = None
+        self.solutions = None  # per record, of the last evaluation's rows (model's type)
 
     # ---------------------------------------------------------------- evaluation
     def evaluate(self, Theta, jacobian=False):
@@ -95,7 +96,7 @@ class Problem:
         Ps = self.design.local(Theta)
         self.n_calls += 1
         if not jacobian:
-            res, _ = self.model.residuals(self.datas, Ps)
+            res, self.solutions = self.model.residuals(self.datas, Ps)
             return np.concatenate(res, axis=1), None
         dP = self.design.dlocal(Theta, self.vary)
         cols, steps, active = [], [], []
@@ -117,7 +118,8 @@ class Problem:
             cols.append(np.concatenate(blocks))
             steps.append(st)
             active.append((act, fd))
-        res, _, ders = self.model.residuals(self.datas, cols, nderiv=[B] * len(cols))
+        res, sols, ders = self.model.residuals(self.datas, cols, nderiv=[B] * len(cols))
+        self.solutions = [None if s is None else s.head(B) for s in sols]
         r_all, J_all = [], []
         for r, st, (act, fd), D, der in zip(res, steps, active, dP, ders, strict=True):
             n = r.shape[1]
@@ -138,12 +140,17 @@ class Problem:
         theta = np.asarray(theta, dtype=float)
         if self._last is None or not np.array_equal(self._last[0], theta):
             r, J = self.evaluate(theta[None, :], jacobian=True)
-            self._last = (theta.copy(), r[0], J[0])
+            self._last = (theta.copy(), r[0], J[0], self.solutions)
         return self._last[1]
 
     def jacobian(self, theta):
         self.residual(theta)
         return self._last[2]
+
+    def solution(self, theta):
+        """The model's solution of each record at θ (kept from the last evaluation there)."""
+        self.residual(theta)
+        return self._last[3]
 
 
 def _solve_normal(J, r, damp):

@@ -329,6 +329,10 @@ class Solution:
     tang: object
     index: np.ndarray  # column → unique problem
 
+    def head(self, n: int) -> Solution:
+        """The solution of the first ``n`` columns."""
+        return Solution(self.pulse, self.tang, self.index[:n])
+
 
 class ForwardModel:
     """A contact model of records: normal law, tangential model, history rule (module notes).

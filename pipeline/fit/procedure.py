@@ -5,7 +5,8 @@
 
 1. lmfit's Levenberg–Marquardt (:class:`lmfit.Minimizer`, ``leastsq`` with the Jacobian of
    :class:`pipeline.fit.engine.Problem` as ``Dfun``) from the starting values, inside bounds
-   (E* within a factor 20 of its start, e in [0.1, 1], μ ≥ 0, ``kt_scale`` ≥ 0.001, t0 from
+   (E* within a factor 20 of its start, e in [0.1, 1], μ ≥ 0, ``kt_scale`` in [10⁻³, 10³]:
+   a step along a direction the data do not bound stays finite; t0 from
    the first fitted sample to mid-contact);
 2. the covariance at the optimum (:func:`pipeline.fit.uncertainty.covariance`);
 3. the one-sided parameters: μ and ``kt_scale`` are pushed to 30× their value with the
@@ -36,6 +37,9 @@ from .uncertainty import block_bootstrap, chi2_quantile, covariance, profile
 __all__ = ["run_fit", "base_name"]
 
 _RUNS_Z = -2.326  # one-sided α = 0.01 (pipeline.smooth.RUNS_ALPHA)
+#: lmder's ftol and xtol: χ² falls by less than 1e-6 of itself, ~10⁻³ in χ² units for a
+#: thousand samples, which moves a parameter by well under 10⁻² of its standard error
+_TOL = 1e-6
 #: how far above its value a parameter is pushed to see whether the data bound it above
 _PUSH = 30.0
 
@@ -50,7 +54,7 @@ def _bounds(name, value, data):
     if name == "mu":
         return (0.0, math.inf)
     if name == "kt_scale":
-        return (1e-3, math.inf)
+        return (1e-3, 1e3)
     if name == "mu_a":
         return (-1.0, 5.0)
     if name == "mu_b":
@@ -98,7 +102,7 @@ def run_fit(model, datas, design, init, vary, notes, *, n_boot=0, seed=0) -> dic
         return problem.jacobian(theta_of(p)).copy()  # lmfit scales it in place
 
     mini = lmfit.Minimizer(fcn, params, nan_policy="raise")
-    res = mini.leastsq(Dfun=dfun, col_deriv=0, ftol=1e-8, xtol=1e-8, max_nfev=2000)
+    res = mini.leastsq(Dfun=dfun, col_deriv=0, ftol=_TOL, xtol=_TOL, max_nfev=2000)
     theta = theta_of(res.params)
     r, J = problem.residual(theta), problem.jacobian(theta)
     chi2 = float(r @ r)

@@ -183,9 +183,11 @@ def _expm(a, b, d):
     t2 = d * d + a * b
     r = np.sqrt(np.abs(t2))
     pos = t2 > 0
-    C = np.where(pos, np.cosh(r), np.cos(r))
+    # each branch only where it applies: a stiff spring's oscillatory r overflows cosh
+    rh = np.where(pos, r, 0.0)
+    C = np.where(pos, np.cosh(rh), np.cos(r))
     with np.errstate(invalid="ignore", divide="ignore"):
-        S = np.where(r > 1e-8, np.where(pos, np.sinh(r), np.sin(r)) / np.where(r > 0, r, 1), 1.0)
+        S = np.where(r > 1e-8, np.where(pos, np.sinh(rh), np.sin(r)) / np.where(r > 0, r, 1), 1.0)
     S = np.where(r > 1e-8, S, 1.0 + t2 / 6.0)
     return C + S * d, S * a, S * b, C - S * d
 
