@@ -268,6 +268,24 @@ def test_cross_talk_biases_mu_and_is_detected():
     assert told.values["mu"] == pytest.approx(0.13, rel=0.01)
 
 
+def test_mu_start_undoes_a_known_cross_talk():
+    """The starting μ (the sliding plateau of Ft/Fn) reads μ + C10/C11 through a leak of Fn
+    into Ft; with the matrix known it is unmixed: (C00·r − C10)/(C11 − C01·r)."""
+    from pipeline.fit.contact import _mu_start
+    from pipeline.fit.forward import prepare
+
+    C = np.eye(3)
+    C[1, 0], C[0, 1] = 0.02, -0.01
+    sc = gr(angle_deg=45.0, mu=0.10)  # slides throughout: the plateau is μ
+    rec = to_sensor(impact(sc, samples=2001), crosstalk=C, noise=1e-3, seed=9)
+    spec = {"bandwidth": 300e3, "filter_order": 2}
+    t_end = 1.0  # every sample before it: the plateau rule picks the sliding ratios
+    blind = quiet(prepare, rec, sc, sensor=spec)
+    assert _mu_start(blind, t_end) == pytest.approx(0.10 + 0.02, rel=0.02)
+    told = quiet(prepare, rec, sc, sensor={**spec, "crosstalk_matrix": C.ravel().tolist()})
+    assert _mu_start(told, t_end) == pytest.approx(0.10, rel=0.01)
+
+
 def test_unmodelled_filter_shows_as_a_late_onset():
     """A causal low-pass delays the signal by its group delay, √2/(2π·f_c) for a 2nd-order
     Butterworth (1.5 µs at 150 kHz). Fitted as if unfiltered, the record's onset t0 comes out

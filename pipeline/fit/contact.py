@@ -350,6 +350,11 @@ def _mu_start(data, t_peak):
     from ..analysis import estimate_mu
 
     m = estimate_mu(data.window, t_peak)
+    C = data.sensor.crosstalk
+    if C is not None and np.isfinite(m):
+        # the measured ratio is (C10 + C11·μ)/(C00 + C01·μ): undo the sensor's mixing
+        den = C[1, 1] - C[0, 1] * m
+        m = (C[0, 0] * m - C[1, 0]) / den if den > 0 else m
     return float(np.clip(m, 1e-3, 2.0)) if np.isfinite(m) and m > 0 else 0.1
 
 
