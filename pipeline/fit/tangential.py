@@ -138,14 +138,11 @@ class _Pulse:
         )
         return np.maximum(y[..., 0], 0.0), y[..., 1], np.maximum(y[..., 2], 0.0)
 
-    def gauss_q(self, rows, t0, t1, extra=None):
-        """√x at the two Gauss points of [t0, t1] (within one step or less), (k, 2); with
-        ``extra`` (k,) also √x there, as a third column (one interpolation for all)."""
+    @staticmethod
+    def gauss_points(t0, t1):
+        """The two Gauss points of each [t0, t1], (k, 2)."""
         d = (t1 - t0)[:, None]
-        pts = [t0[:, None] + _G1 * d, t0[:, None] + _G2 * d]
-        if extra is not None:
-            pts.append(extra[:, None])
-        return np.sqrt(self.at(rows, np.concatenate(pts, axis=1))[0])
+        return np.concatenate([t0[:, None] + _G1 * d, t0[:, None] + _G2 * d], axis=1)
 
 
 def _rows(r, M):
@@ -315,6 +312,7 @@ def _mindlin(pulse, s0, lam, mu, kc, history):
     mode = np.where(mu <= 0, 1, mode)
     t_a = np.zeros(M)  # start of the current segment
     p_a = np.zeros(M)
+    pn_a = pl.pn[:, 0].copy()  # the normal percussion 1 − u there (at τ = 0 the interpolant is u_0)
     v1 = np.zeros(M)  # stick state: ξ (total) or ft (incremental)
     v2 = s0.copy()  # slip s
     active = np.ones(M, dtype=bool)
@@ -332,6 +330,7 @@ def _mindlin(pulse, s0, lam, mu, kc, history):
                 stick_rows,
                 t_a,
                 p_a,
+                pn_a,
                 v1,
                 v2,
                 mode,
@@ -352,6 +351,7 @@ def _mindlin(pulse, s0, lam, mu, kc, history):
                 slide_rows,
                 t_a,
                 p_a,
+                pn_a,
                 v1,
                 v2,
                 mode,
@@ -383,6 +383,7 @@ def _stick_segment(
     r,
     t_a,
     p_a,
+    pn_a,
     v1,
     v2,
     mode,
@@ -404,7 +405,7 @@ def _stick_segment(
     ta = t_a[r]  # a copy: t_a is updated below
     k = np.minimum((ta / hr).astype(int), n - 1)
     t_k1 = (k + 1) * hr
-    qg = pl.gauss_q(r, ta, t_k1)
+    qg = np.sqrt(pl.at(r, pl.gauss_points(ta, t_k1))[0])
     Mp = _magnus(stick, R, qg[:, 0], qg[:, 1], t_k1 - ta)
     w1 = Mp[0] * v1[R] + Mp[1] * v2[R]
     w2 = Mp[2] * v1[R] + Mp[3] * v2[R]
@@ -440,13 +441,17 @@ def _stick_segment(
         # the state at the switch: one partial step from the node before it
         tl = np.minimum((te[ev] / he).astype(int), n - 1)
         tl_node = tl * he
-        qg = pl.gauss_q(re, tl_node, te[ev], extra=te[ev])  # and √x at the switch
+        # x at the partial step's Gauss points and x, u at the switch: one interpolation
+        pts = np.concatenate([pl.gauss_points(tl_node, te[ev]), te[ev][:, None]], axis=1)
+        x, u, _ = pl.at(re, pts)
+        qg = np.sqrt(x)
         Mq = _magnus(stick, re, qg[:, 0], qg[:, 1], te[ev] - tl_node)
         a, b = V1[ev, tl], V2[ev, tl]
         xi, s = Mq[0] * a + Mq[1] * b, Mq[2] * a + Mq[3] * b
         mode[re] = np.where(stick.force(xi, qg[:, 2], re) >= 0, 1, -1)
         t_a[re] = te[ev]
         p_a[re] = (s0[re] - s) / lam[re]
+        pn_a[re] = 1.0 - u[:, 2]
         done[ev] |= te[ev] >= pl.tau_c[re] * (1 - 1e-12)
     active[r[done]] = False
 
@@ -457,6 +462,7 @@ def _slide_segment(
     r,
     t_a,
     p_a,
+    pn_a,
     v1,
     v2,
     mode,
@@ -479,8 +485,8 @@ def _slide_segment(
     mr = mu[RC]
     smr = sig[:, None] * mr
     ta = t_a[r]  # a copy: t_a is updated below
-    pn_a = 1.0 - pl.at(r, ta[:, None])[1][:, 0]
-    Pj = p_a[RC] + smr * (pl.pn[R] - pn_a[:, None])
+    pn_s = pn_a[r]  # a copy, as ta
+    Pj = p_a[RC] + smr * (pl.pn[R] - pn_s[:, None])
     # release: σ·d(free spring force)/dτ − μ·f' < 0 (module notes)
     f, df = pl.f[R], pl.df[R]
     Rl = sig[:, None] * kc[RC] * pl.q[R] * (s0[RC] - lam[RC] * Pj) - mr * df
@@ -509,7 +515,7 @@ def _slide_segment(
         x, u, f_ = (y[:, 0] for y in pl.at(re, t_r[ev][:, None]))
         pn_ = 1.0 - u
         pn_b[ev] = pn_
-        pr = p_a[re] + sig[ev] * mu[re] * (pn_ - pn_a[ev])
+        pr = p_a[re] + sig[ev] * mu[re] * (pn_ - pn_s[ev])
         cap = sig[ev] * mu[re] * f_
         q = np.sqrt(x)
         with np.errstate(divide="ignore", invalid="ignore"):
@@ -518,5 +524,5 @@ def _slide_segment(
         v2[re] = s0[re] - lam[re] * pr
         mode[re] = 0
         t_a[re] = t_r[ev]
-    slide_pn[R] += pn_b - pn_a
+    slide_pn[R] += pn_b - pn_s
     active[r[~has]] = False
