@@ -416,8 +416,7 @@ class ForwardModel:
             allrows[:, 1:4] = 0.0
         elif self.tangential == "coulomb":
             allrows[:, 2] = 0.0
-        uniq, inv = np.unique(allrows, axis=0, return_inverse=True)
-        inv = inv.ravel()
+        uniq, inv = _distinct_rows(allrows)
         e = uniq[:, 0]
         if np.any(~((e >= E_MIN) & (e <= 1.0))):
             raise InputError(f"restitution outside [{E_MIN}, 1]: {e[(e < E_MIN) | (e > 1)]}")
@@ -442,9 +441,9 @@ class ForwardModel:
         return out
 
     # -------------------------------------------------------------- predict
-    def _true_forces(self, sol: Solution, tau, need_t, deriv=False):
+    def _true_forces(self, sol: Solution, tau, need_t, nderiv=0):
         """Fn, Ft (dimensionless) at τ (C, n) by cubic Hermite on the nodes, 0 out of contact;
-        with ``deriv`` also their rates d/dτ."""
+        with ``nderiv`` > 0 also their rates d/dτ at the first ``nderiv`` columns."""
         pul = sol.pulse
         k = sol.index
         n = pul.n_steps
@@ -453,7 +452,6 @@ class ForwardModel:
         inside = (s >= 0) & (s <= n)
         j = np.clip(s.astype(int), 0, n - 1)
         th = s - j
-        kk = k[:, None]
         t2 = th * th
         t3 = t2 * th
         h00, h10, h01, h11 = (
@@ -465,20 +463,26 @@ class ForwardModel:
         series = [pul.f, pul.df]
         if need_t and sol.tang is not None:
             series += [sol.tang.ft, sol.tang.dft]
-        table = np.stack(series, axis=-1)  # (U, J, 2 or 4): one gather per side of a step
-        a, b = table[kk, j], table[kk, j + 1]
+        # the series side by side, (S, U·J): one gather per side of a step serves them all
+        table = np.stack(series).reshape(len(series), -1)
+        flat = k[:, None] * (n + 1) + j
+        a, b = np.take(table, flat, axis=1), np.take(table, flat + 1, axis=1)  # (S, C, n)
         out, rates = [], []
-        for i in range(0, table.shape[-1], 2):
-            y0, d0, y1, d1 = a[..., i], a[..., i + 1], b[..., i], b[..., i + 1]
+        if nderiv:  # the rate's time factors, shared by the series
+            d = slice(0, nderiv)
+            hd, ind = h[d], inside[d]
+            g0, g1, g2 = 6 * t2[d] - 6 * th[d], 3 * t2[d] - 4 * th[d] + 1, 3 * t2[d] - 2 * th[d]
+        for i in range(0, len(series), 2):
+            y0, d0, y1, d1 = a[i], a[i + 1], b[i], b[i + 1]
             out.append(np.where(inside, h00 * y0 + h10 * d0 + h01 * y1 + h11 * d1, 0.0))
-            if deriv:
-                g = (6 * t2 - 6 * th) * (y0 - y1) / h + (3 * t2 - 4 * th + 1) * d0
-                rates.append(np.where(inside, g + (3 * t2 - 2 * th) * d1, 0.0))
+            if nderiv:
+                g = g0 * (y0[d] - y1[d]) / hd + g1 * d0[d]
+                rates.append(np.where(ind, g + g2 * d1[d], 0.0))
         out[0] = np.maximum(out[0], 0.0)
         if len(out) == 1:
             out.append(None)
             rates.append(None)
-        return (out[0], out[1], rates[0], rates[1]) if deriv else (out[0], out[1])
+        return (out[0], out[1], rates[0], rates[1]) if nderiv else (out[0], out[1])
 
     def _forces(self, data, P, sol, t, names, nderiv):
         """Measured-axis forces at instants ``t`` (before the filter), one (C, n) array per
@@ -487,7 +491,7 @@ class ForwardModel:
         t0 = P[:, _I["t0"]][:, None]
         tau = (t[None, :] - t0) / T[:, None]
         need_t = "Ft" in names or (data.sensor.crosstalk is not None and self.tangential != "none")
-        res = self._true_forces(sol, tau, need_t, deriv=nderiv > 0)
+        res = self._true_forces(sol, tau, need_t, nderiv)
         fn, ft = res[0] * Fs[:, None], None if res[1] is None else res[1] * Fs[:, None]
         mixed = self._mix(data.sensor.crosstalk, fn, ft, names)
         if not nderiv:
@@ -500,7 +504,7 @@ class ForwardModel:
             if f is None:
                 parts.append((None, None))
                 continue
-            rate = Fb * r[b]  # dF/dτ [N]
+            rate = Fb * r  # dF/dτ [N]
             # F = Fs·f((t − t0)/T), Fs ∝ E*^{2/5}, T ∝ E*^{−2/5} (module notes)
             parts.append((0.4 * (f[b] + rate * tb) / E, -rate / Tb))
         dE = self._mix(data.sensor.crosstalk, parts[0][0], parts[1][0], names)
@@ -621,6 +625,21 @@ class ForwardModel:
             "Fn": fn[0] * Fs[0],
             "Ft": None if ft is None else ft[0] * Fs[0],
         }
+
+
+def _distinct_rows(a):
+    """The distinct rows of ``a`` (in order of first appearance) and, for each row, the index
+    of its copy among them: ``a == uniq[inv]``. A dictionary keyed by the rows' values, cheaper
+    than :func:`numpy.unique` (a sort of the rows) for the few columns of a fit's call."""
+    rows = list(map(tuple, a.tolist()))
+    first = {}  # row → where it first appears
+    for i, row in enumerate(rows):
+        first.setdefault(row, i)
+    if len(first) == len(rows):
+        return a, np.arange(len(rows))
+    number = {row: k for k, row in enumerate(first)}
+    inv = np.array([number[row] for row in rows])
+    return a[list(first.values())], inv
 
 
 def _rk4_response(pulse, uniq, tangential, history):

@@ -92,19 +92,12 @@ class TangentialResponse:
     segments: np.ndarray
 
 
-def _hermite(theta, y0, d0, y1, d1, h):
-    t2 = theta * theta
-    t3 = t2 * theta
-    return (
-        (2 * t3 - 3 * t2 + 1) * y0
-        + (t3 - 2 * t2 + theta) * h * d0
-        + (3 * t2 - 2 * t3) * y1
-        + (t3 - t2) * h * d1
-    )
-
-
 class _Pulse:
-    """The normal pulse of M columns with interpolation at arbitrary τ (one per column)."""
+    """The normal pulse of M columns with interpolation at arbitrary τ (one per column).
+
+    Everything a segment needs that depends on the pulse alone is computed here once per
+    solve, not once per segment.
+    """
 
     def __init__(self, pulse: NormalPulse):
         self.x, self.u, self.f, self.df = pulse.x, pulse.u, pulse.f, pulse.df
@@ -114,66 +107,75 @@ class _Pulse:
         self.tau_c = pulse.tau_c
         self.q = np.sqrt(self.x)
         self.pn = 1.0 - self.u
-        self.rows = np.arange(self.x.shape[0])
+        pos = self.x > 0
+        # q' = u/(2√x), 0 where x = 0 (the total rule's d(spring force)/dτ)
+        self.qd = np.where(self.q > 0, self.u / (2.0 * np.where(self.q > 0, self.q, 1.0)), 0.0)
+        self.x2 = 2 * np.where(pos, self.x, 1.0)  # 2x, 1 where x = 0 (a safe divisor)
+        self.pos = pos
+        self.inner = pos.copy()  # x > 0 before the last node (where a slide may end)
+        self.inner[:, -1] = False
+        # x, u, f beside their rates u, −f, df at each node: one gather per side of a step
+        # serves the three interpolants of :meth:`at`
+        self.table = np.stack([self.x, self.u, self.f, self.u, -self.f, self.df], axis=-1)
 
-    def at(self, rows, tau, what="xufdp"):
-        """x, u, f, df, pn at τ (arrays of the rows' length; only those in ``what``: "x",
-        "u", "f", "d", "p"), τ clipped to [0, τ_c]. Cubic Hermite in x, u, f (their rates
-        are u, −f, df), linear in df."""
-        h = self.h[rows]
-        s = np.clip(tau / h, 0.0, self.n)
+    def at(self, rows, tau):
+        """x, u, f at τ (k, m) for the rows (k,) (an index array), each shaped like τ; τ
+        clipped to [0, τ_c]. Cubic Hermite on the nodes (the rates of x, u, f are u, −f,
+        df); x and f floored at 0."""
+        h = self.h[rows][:, None]
+        s = np.minimum(np.maximum(tau / h, 0.0), self.n)
         j = np.minimum(s.astype(int), self.n - 1)
         th = s - j
-        out = []
-        if "x" in what:
-            x = _hermite(
-                th, self.x[rows, j], self.u[rows, j], self.x[rows, j + 1], self.u[rows, j + 1], h
-            )
-            out.append(np.maximum(x, 0.0))
-        if "u" in what or "p" in what:
-            u = _hermite(
-                th, self.u[rows, j], -self.f[rows, j], self.u[rows, j + 1], -self.f[rows, j + 1], h
-            )
-            if "u" in what:
-                out.append(u)
-        if "f" in what:
-            f = _hermite(
-                th, self.f[rows, j], self.df[rows, j], self.f[rows, j + 1], self.df[rows, j + 1], h
-            )
-            out.append(np.maximum(f, 0.0))
-        if "d" in what:
-            out.append(self.df[rows, j] + th * (self.df[rows, j + 1] - self.df[rows, j]))
-        if "p" in what:
-            out.append(1.0 - u)
-        return out
+        t2 = th * th
+        t3 = t2 * th
+        rr = rows[:, None]
+        a, b = self.table[rr, j], self.table[rr, j + 1]  # (k, m, 6)
+        y = (
+            (2 * t3 - 3 * t2 + 1)[..., None] * a[..., :3]
+            + ((t3 - 2 * t2 + th) * h)[..., None] * a[..., 3:]
+            + (3 * t2 - 2 * t3)[..., None] * b[..., :3]
+            + ((t3 - t2) * h)[..., None] * b[..., 3:]
+        )
+        return np.maximum(y[..., 0], 0.0), y[..., 1], np.maximum(y[..., 2], 0.0)
 
-    def gauss_q(self, rows, t0, t1):
-        """√x at the two Gauss points of [t0, t1] (within one step or less)."""
-        return [np.sqrt(self.at(rows, t0 + g * (t1 - t0), "x")[0]) for g in (_G1, _G2)]
+    @staticmethod
+    def gauss_points(t0, t1):
+        """The two Gauss points of each [t0, t1], (k, 2)."""
+        d = (t1 - t0)[:, None]
+        return np.concatenate([t0[:, None] + _G1 * d, t0[:, None] + _G2 * d], axis=1)
+
+
+def _rows(r, M):
+    """An index of the rows ``r`` (sorted, distinct) of M: a slice when it is every row, so
+    that indexing gives views instead of copies (the common case: all columns in one mode)."""
+    return slice(None) if r.size == M else r
 
 
 class _Stick:
-    """Coefficients a(√x), b(√x) of the stick system v' = [[0, a], [b, 0]] v of one rule."""
+    """Coefficients a(√x), b(√x) of the stick system v' = [[0, a], [b, 0]] v of one rule.
+
+    ``rows`` indexes the columns (an index array, a slice, or either with a new axis).
+    """
 
     def __init__(self, history, lam, kc):
         self.total = history == "total"
         self.lam, self.kc = lam, kc
+        self.lam_kc = -lam * kc  # total rule: s' = −λ·kc·√x·ξ
+        self.neg_lam = -lam
 
     def ab(self, q, rows):
-        lam, kc = self.lam[rows], self.kc[rows]
         if self.total:  # v = (ξ, s): ξ' = s, s' = −λ·kc·√x·ξ
-            return np.ones_like(q), -lam * kc * q
-        return kc * q, -lam * np.ones_like(q)  # v = (ft, s): ft' = kc·√x·s, s' = −λ·ft
+            return 1.0, self.lam_kc[rows] * q
+        return self.kc[rows] * q, self.neg_lam[rows]  # v = (ft, s): ft' = kc·√x·s, s' = −λ·ft
 
     def force(self, v1, q, rows):
         return self.kc[rows] * q * v1 if self.total else v1
 
-    def dforce(self, v1, v2, q, u, rows):
-        """d(spring force)/dτ: total kc(q'ξ + q s) with q' = u/(2q); incremental kc·q·s."""
+    def dforce(self, v1, v2, q, qd, rows):
+        """d(spring force)/dτ: total kc(q'ξ + q s) (q' = u/(2q), :attr:`_Pulse.qd`);
+        incremental kc·q·s."""
         kc = self.kc[rows]
         if self.total:
-            with np.errstate(divide="ignore", invalid="ignore"):
-                qd = np.where(q > 0, u / (2.0 * np.where(q > 0, q, 1.0)), 0.0)
             return kc * (qd * v1 + q * v2)
         return kc * q * v2
 
@@ -183,12 +185,18 @@ def _expm(a, b, d):
     t2 = d * d + a * b
     r = np.sqrt(np.abs(t2))
     pos = t2 > 0
-    # each branch only where it applies: a stiff spring's oscillatory r overflows cosh
-    rh = np.where(pos, r, 0.0)
-    C = np.where(pos, np.cosh(rh), np.cos(r))
-    with np.errstate(invalid="ignore", divide="ignore"):
-        S = np.where(r > 1e-8, np.where(pos, np.sinh(rh), np.sin(r)) / np.where(r > 0, r, 1), 1.0)
-    S = np.where(r > 1e-8, S, 1.0 + t2 / 6.0)
+    if pos.any():
+        # each branch only where it applies: a stiff spring's oscillatory r overflows cosh
+        rh = np.where(pos, r, 0.0)
+        C = np.where(pos, np.cosh(rh), np.cos(r))
+        Sr = np.where(pos, np.sinh(rh), np.sin(r))
+    else:  # all oscillatory (the usual case): no hyperbolic branch to compute
+        C, Sr = np.cos(r), np.sin(r)
+    big = r > 1e-8
+    if big.all():
+        S = Sr / r
+    else:  # sinh(θ)/θ → 1 + θ²/6
+        S = np.where(big, Sr / np.where(big, r, 1.0), 1.0 + t2 / 6.0)
     return C + S * d, S * a, S * b, C - S * d
 
 
@@ -202,25 +210,22 @@ def _magnus(stick, rows, q1, q2, dt):
 
 
 def _fundamental(pl: _Pulse, stick: _Stick):
-    """Φ_j (from τ = 0 to τ_j) at every node, shape (M, n + 1) per entry (prefix scan)."""
+    """Φ_j (from τ = 0 to τ_j) at every node, shape (4, M, n + 1): its entries 11, 12, 21,
+    22 (prefix scan)."""
     M, n = pl.x.shape[0], pl.n
-    rows = pl.rows[:, None]
-    cur = [np.empty((M, n + 1)) for _ in range(4)]
-    steps = _magnus(stick, rows, pl.qg[:, 0], pl.qg[:, 1], pl.h[:, None])
-    for c, v, one in zip(cur, steps, (1.0, 0.0, 0.0, 1.0), strict=True):
-        c[:, 0] = one  # Φ_0 = I
-        c[:, 1:] = v  # the step propagators M_j, becoming Φ_{j+1} = M_j···M_0
+    Phi = np.empty((2, 2, M, n + 1))
+    Phi[..., 0] = np.eye(2)[:, :, None]  # Φ_0 = I
+    steps = _magnus(stick, (slice(None), None), pl.qg[:, 0], pl.qg[:, 1], pl.h[:, None])
+    flat = Phi.reshape(4, M, n + 1)
+    for i, v in enumerate(steps):
+        flat[i, :, 1:] = v  # the step propagators M_j, becoming Φ_{j+1} = M_j···M_0
     k = 1
     while k < n:
-        a11, a12, a21, a22 = (c[:, k + 1 :] for c in cur)
-        b11, b12, b21, b22 = (c[:, 1 : n + 1 - k] for c in cur)
-        p11 = a11 * b11 + a12 * b21
-        p12 = a11 * b12 + a12 * b22
-        p21 = a21 * b11 + a22 * b21
-        p22 = a21 * b12 + a22 * b22
-        a11[...], a12[...], a21[...], a22[...] = p11, p12, p21, p22
+        A, B = Phi[..., k + 1 :], Phi[..., 1 : n + 1 - k]
+        # the 2×2 products A·B node by node: (A·B)_ij = A_i1·B_1j + A_i2·B_2j
+        A[...] = A[:, :1] * B[0] + A[:, 1:] * B[1]
         k *= 2
-    return cur
+    return flat
 
 
 def _linear_root(lo, hi, g_lo, g_hi):
@@ -307,6 +312,7 @@ def _mindlin(pulse, s0, lam, mu, kc, history):
     mode = np.where(mu <= 0, 1, mode)
     t_a = np.zeros(M)  # start of the current segment
     p_a = np.zeros(M)
+    pn_a = pl.pn[:, 0].copy()  # the normal percussion 1 − u there (at τ = 0 the interpolant is u_0)
     v1 = np.zeros(M)  # stick state: ξ (total) or ft (incremental)
     v2 = s0.copy()  # slip s
     active = np.ones(M, dtype=bool)
@@ -324,6 +330,7 @@ def _mindlin(pulse, s0, lam, mu, kc, history):
                 stick_rows,
                 t_a,
                 p_a,
+                pn_a,
                 v1,
                 v2,
                 mode,
@@ -344,6 +351,7 @@ def _mindlin(pulse, s0, lam, mu, kc, history):
                 slide_rows,
                 t_a,
                 p_a,
+                pn_a,
                 v1,
                 v2,
                 mode,
@@ -375,6 +383,7 @@ def _stick_segment(
     r,
     t_a,
     p_a,
+    pn_a,
     v1,
     v2,
     mode,
@@ -390,22 +399,25 @@ def _stick_segment(
 ):
     """Advance the rows ``r`` through one stick segment: v_j = Φ_j·Φ_{k+1}⁻¹·M_part·v_a."""
     n = pl.n
-    hr = pl.h[r]
-    k = np.minimum((t_a[r] / hr).astype(int), n - 1)
+    R = _rows(r, pl.x.shape[0])
+    RC = (R, None)  # the rows as a column, against the nodes
+    hr = pl.h[R]
+    ta = t_a[r]  # a copy: t_a is updated below
+    k = np.minimum((ta / hr).astype(int), n - 1)
     t_k1 = (k + 1) * hr
-    qg = pl.gauss_q(r, t_a[r], t_k1)
-    Mp = _magnus(stick, r, qg[0], qg[1], t_k1 - t_a[r])
-    w1 = Mp[0] * v1[r] + Mp[1] * v2[r]
-    w2 = Mp[2] * v1[r] + Mp[3] * v2[r]
-    P = [c[r, k + 1] for c in Phi]  # Φ_{k+1}, det 1: its inverse is [[d, −b], [−c, a]]
+    qg = np.sqrt(pl.at(r, pl.gauss_points(ta, t_k1))[0])
+    Mp = _magnus(stick, R, qg[:, 0], qg[:, 1], t_k1 - ta)
+    w1 = Mp[0] * v1[R] + Mp[1] * v2[R]
+    w2 = Mp[2] * v1[R] + Mp[3] * v2[R]
+    P = Phi[:, r, k + 1]  # Φ_{k+1}, det 1: its inverse is [[d, −b], [−c, a]]
     c1 = P[3] * w1 - P[1] * w2
     c2 = P[0] * w2 - P[2] * w1
-    V1 = Phi[0][r] * c1[:, None] + Phi[1][r] * c2[:, None]
-    V2 = Phi[2][r] * c1[:, None] + Phi[3][r] * c2[:, None]
-    q = pl.q[r]
-    rr = r[:, None]
-    F = stick.force(V1, q, rr)
-    g = np.abs(F) - mu[rr] * pl.f[r]
+    Ph = Phi[:, R]
+    V1 = Ph[0] * c1[:, None] + Ph[1] * c2[:, None]
+    V2 = Ph[2] * c1[:, None] + Ph[3] * c2[:, None]
+    q = pl.q[R]
+    F = stick.force(V1, q, RC)
+    g = np.abs(F) - mu[RC] * pl.f[R]
     hit = (nodes > k[:, None]) & (g > 0)
     has = hit.any(axis=1)
     te = np.full(r.size, np.inf)
@@ -417,24 +429,29 @@ def _stick_segment(
         re = r[ev]
         he = pl.h[re]
         te[ev] = np.maximum(
-            _linear_root((j - 1) * he, j * he, np.minimum(g[ev, j - 1], 0.0), g[ev, j]), t_a[re]
+            _linear_root((j - 1) * he, j * he, np.minimum(g[ev, j - 1], 0.0), g[ev, j]), ta[ev]
         )
-    own = (tau[r] >= t_a[rr]) & (tau[r] < te[:, None])
-    ft_out[r] = np.where(own, F, ft_out[r])
-    p_out[r] = np.where(own, (s0[rr] - V2) / lam[rr], p_out[r])
-    dft_out[r] = np.where(own, stick.dforce(V1, V2, q, pl.u[r], rr), dft_out[r])
+    tr = tau[R]
+    own = (tr >= ta[:, None]) & (tr < te[:, None])
+    ft_out[R] = np.where(own, F, ft_out[R])
+    p_out[R] = np.where(own, (s0[RC] - V2) / lam[RC], p_out[R])
+    dft_out[R] = np.where(own, stick.dforce(V1, V2, q, pl.qd[R], RC), dft_out[R])
     done = ~has
     if ev.size:
         # the state at the switch: one partial step from the node before it
-        jl = np.minimum((te[ev] / he).astype(int), n - 1)
-        qg = pl.gauss_q(re, jl * he, te[ev])
-        Mq = _magnus(stick, re, qg[0], qg[1], te[ev] - jl * he)
-        a, b = V1[ev, jl], V2[ev, jl]
+        tl = np.minimum((te[ev] / he).astype(int), n - 1)
+        tl_node = tl * he
+        # x at the partial step's Gauss points and x, u at the switch: one interpolation
+        pts = np.concatenate([pl.gauss_points(tl_node, te[ev]), te[ev][:, None]], axis=1)
+        x, u, _ = pl.at(re, pts)
+        qg = np.sqrt(x)
+        Mq = _magnus(stick, re, qg[:, 0], qg[:, 1], te[ev] - tl_node)
+        a, b = V1[ev, tl], V2[ev, tl]
         xi, s = Mq[0] * a + Mq[1] * b, Mq[2] * a + Mq[3] * b
-        x = pl.at(re, te[ev], "x")[0]
-        mode[re] = np.where(stick.force(xi, np.sqrt(x), re) >= 0, 1, -1)
+        mode[re] = np.where(stick.force(xi, qg[:, 2], re) >= 0, 1, -1)
         t_a[re] = te[ev]
         p_a[re] = (s0[re] - s) / lam[re]
+        pn_a[re] = 1.0 - u[:, 2]
         done[ev] |= te[ev] >= pl.tau_c[re] * (1 - 1e-12)
     active[r[done]] = False
 
@@ -445,6 +462,7 @@ def _slide_segment(
     r,
     t_a,
     p_a,
+    pn_a,
     v1,
     v2,
     mode,
@@ -461,46 +479,50 @@ def _slide_segment(
     slide_pn,
 ):
     """Advance the rows ``r`` through one slide segment (closed form) to the release."""
-    n = pl.n
-    rr = r[:, None]
-    sig = mode[r].astype(float)[:, None]
-    mr = mu[rr]
-    pn_a = pl.at(r, t_a[r], "p")[0]
-    Pj = p_a[rr] + sig * mr * (pl.pn[r] - pn_a[:, None])
+    R = _rows(r, pl.x.shape[0])
+    RC = (R, None)  # the rows as a column, against the nodes
+    sig = mode[r].astype(float)
+    mr = mu[RC]
+    smr = sig[:, None] * mr
+    ta = t_a[r]  # a copy: t_a is updated below
+    pn_s = pn_a[r]  # a copy, as ta
+    Pj = p_a[RC] + smr * (pl.pn[R] - pn_s[:, None])
     # release: σ·d(free spring force)/dτ − μ·f' < 0 (module notes)
-    x, f, df = pl.x[r], pl.f[r], pl.df[r]
-    R = sig * kc[rr] * pl.q[r] * (s0[rr] - lam[rr] * Pj) - mr * df
+    f, df = pl.f[R], pl.df[R]
+    Rl = sig[:, None] * kc[RC] * pl.q[R] * (s0[RC] - lam[RC] * Pj) - mr * df
     if stick.total:  # on the cap ξ = σμf/(kc√x): the term kc·q'·ξ = μ·f·u/(2x)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            R = R + np.where(x > 0, mr * f * pl.u[r] / (2 * np.where(x > 0, x, 1.0)), 0.0)
-    hit = (tau[r] > t_a[rr]) & (x > 0) & (R < 0) & (nodes < n)
-    has = hit.any(axis=1) & (mu[r] > 0)
-    tr = np.full(r.size, np.inf)
+        Rl = Rl + np.where(pl.pos[R], mr * f * pl.u[R] / pl.x2[R], 0.0)
+    tr = tau[R]
+    hit = (tr > ta[:, None]) & pl.inner[R] & (Rl < 0)
+    has = hit.any(axis=1) & (mu[R] > 0)
+    t_r = np.full(r.size, np.inf)
     ev = np.nonzero(has)[0]
     if ev.size:
         j = hit[ev].argmax(axis=1)
         re = r[ev]
         he = pl.h[re]
         # −R rises through zero between nodes j − 1 and j (closed form extends before t_a)
-        tr[ev] = np.maximum(
-            _linear_root((j - 1) * he, j * he, np.minimum(-R[ev, j - 1], 0.0), -R[ev, j]), t_a[re]
+        t_r[ev] = np.maximum(
+            _linear_root((j - 1) * he, j * he, np.minimum(-Rl[ev, j - 1], 0.0), -Rl[ev, j]),
+            ta[ev],
         )
-    own = (tau[r] >= t_a[rr]) & (tau[r] < tr[:, None])
-    ft_out[r] = np.where(own, sig * mr * f, ft_out[r])
-    dft_out[r] = np.where(own, sig * mr * df, dft_out[r])
-    p_out[r] = np.where(own, Pj, p_out[r])
-    pn_b = pl.pn[r, -1].copy()
+    own = (tr >= ta[:, None]) & (tr < t_r[:, None])
+    ft_out[R] = np.where(own, smr * f, ft_out[R])
+    dft_out[R] = np.where(own, smr * df, dft_out[R])
+    p_out[R] = np.where(own, Pj, p_out[R])
+    pn_b = pl.pn[r, -1]
     if ev.size:
-        x, f_, pn_ = pl.at(re, tr[ev], "xfp")
+        x, u, f_ = (y[:, 0] for y in pl.at(re, t_r[ev][:, None]))
+        pn_ = 1.0 - u
         pn_b[ev] = pn_
-        pr = p_a[re] + sig[ev, 0] * mu[re] * (pn_ - pn_a[ev])
-        cap = sig[ev, 0] * mu[re] * f_
+        pr = p_a[re] + sig[ev] * mu[re] * (pn_ - pn_s[ev])
+        cap = sig[ev] * mu[re] * f_
         q = np.sqrt(x)
         with np.errstate(divide="ignore", invalid="ignore"):
             xi = np.where(q > 0, cap / (kc[re] * np.where(q > 0, q, 1.0)), 0.0)
         v1[re] = xi if stick.total else cap
         v2[re] = s0[re] - lam[re] * pr
         mode[re] = 0
-        t_a[re] = tr[ev]
-    slide_pn[r] += pn_b - pn_a
+        t_a[re] = t_r[ev]
+    slide_pn[R] += pn_b - pn_s
     active[r[~has]] = False
