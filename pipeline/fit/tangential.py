@@ -298,117 +298,95 @@ def _mindlin(pulse, s0, lam, mu, kc, history):
     stick = _Stick(history, lam, kc)
     M, J = pl.x.shape
     h = pl.h
-    nodes = np.arange(J)[None, :]
-    tau = h[:, None] * nodes
     Phi = _fundamental(pl, stick)
-    p_out, ft_out, dft_out = (np.zeros((M, J)) for _ in range(3))
-    slide_pn = np.zeros(M)
-    segments = np.zeros(M, dtype=int)
-
     # initial mode (as pipeline.simulate.impact): does the spring stay under the cap at
     # first contact? Trial force at node 1: total k·s0·τ, incremental (2/3)·k·s0·τ
     trial = kc * pl.q[:, 1] * s0 * h * (1.0 if stick.total else 2.0 / 3.0)
     mode = np.where((s0 <= 0) | (trial < mu * pl.f[:, 1]), 0, 1)  # 0 stick, ±1 slide
-    mode = np.where(mu <= 0, 1, mode)
-    t_a = np.zeros(M)  # start of the current segment
-    p_a = np.zeros(M)
-    pn_a = pl.pn[:, 0].copy()  # the normal percussion 1 − u there (at τ = 0 the interpolant is u_0)
-    v1 = np.zeros(M)  # stick state: ξ (total) or ft (incremental)
-    v2 = s0.copy()  # slip s
-    active = np.ones(M, dtype=bool)
+    nodes = np.arange(J)[None, :]
+    st = _State(
+        s0=s0,
+        lam=lam,
+        mu=mu,
+        kc=kc,
+        nodes=nodes,
+        tau=h[:, None] * nodes,
+        mode=np.where(mu <= 0, 1, mode),
+        t_a=np.zeros(M),
+        p_a=np.zeros(M),
+        pn_a=pl.pn[:, 0].copy(),  # 1 − u at τ = 0 (where the interpolant is u_0)
+        v1=np.zeros(M),
+        v2=s0.copy(),
+        active=np.ones(M, dtype=bool),
+        p=np.zeros((M, J)),
+        ft=np.zeros((M, J)),
+        dft=np.zeros((M, J)),
+        slide_pn=np.zeros(M),
+    )
+    segments = np.zeros(M, dtype=int)
     for _ in range(_MAX_SEGMENTS):
-        if not active.any():
+        if not st.active.any():
             break
-        segments += active
-        stick_rows = np.nonzero(active & (mode == 0))[0]
-        slide_rows = np.nonzero(active & (mode != 0))[0]
+        segments += st.active
+        stick_rows = np.nonzero(st.active & (st.mode == 0))[0]
+        slide_rows = np.nonzero(st.active & (st.mode != 0))[0]
         if stick_rows.size:
-            _stick_segment(
-                pl,
-                stick,
-                Phi,
-                stick_rows,
-                t_a,
-                p_a,
-                pn_a,
-                v1,
-                v2,
-                mode,
-                active,
-                s0,
-                lam,
-                mu,
-                tau,
-                nodes,
-                p_out,
-                ft_out,
-                dft_out,
-            )
+            _stick_segment(pl, stick, Phi, stick_rows, st)
         if slide_rows.size:
-            _slide_segment(
-                pl,
-                stick,
-                slide_rows,
-                t_a,
-                p_a,
-                pn_a,
-                v1,
-                v2,
-                mode,
-                active,
-                s0,
-                lam,
-                mu,
-                kc,
-                tau,
-                nodes,
-                p_out,
-                ft_out,
-                dft_out,
-                slide_pn,
-            )
-    ft_out[:, -1] = 0.0  # the last node: the contact has ended
+            _slide_segment(pl, stick, slide_rows, st)
+    st.ft[:, -1] = 0.0  # the last node: the contact has ended
     with np.errstate(divide="ignore", invalid="ignore"):
-        share = np.clip(np.where(pl.pn[:, -1] > 0, slide_pn / pl.pn[:, -1], 0.0), 0.0, 1.0)
-    slip_stops = np.any(s0[:, None] - lam[:, None] * p_out <= 0, axis=1)
+        share = np.clip(np.where(pl.pn[:, -1] > 0, st.slide_pn / pl.pn[:, -1], 0.0), 0.0, 1.0)
+    slip_stops = np.any(s0[:, None] - lam[:, None] * st.p <= 0, axis=1)
     return TangentialResponse(
-        p=p_out, ft=ft_out, dft=dft_out, slip_stops=slip_stops, slide_share=share, segments=segments
+        p=st.p, ft=st.ft, dft=st.dft, slip_stops=slip_stops, slide_share=share, segments=segments
     )
 
 
-def _stick_segment(
-    pl,
-    stick,
-    Phi,
-    r,
-    t_a,
-    p_a,
-    pn_a,
-    v1,
-    v2,
-    mode,
-    active,
-    s0,
-    lam,
-    mu,
-    tau,
-    nodes,
-    p_out,
-    ft_out,
-    dft_out,
-):
+@dataclass(eq=False)
+class _State:
+    """The M columns' parameters, their state at the start of the current segment and the
+    solution so far; the segment functions advance it in place (internal).
+
+    s0, lam, mu, kc : (M,) parameters; nodes (1, J) and tau (M, J) the node indices and times;
+    mode (M,) 0 stick, ±1 slide (the sign of the force); t_a, p_a, pn_a (M,) the segment's
+    start τ, p and normal percussion; v1, v2 (M,) the stick state (ξ or ft, and the slip s);
+    active (M,) the columns still in contact; p, ft, dft (M, J) the solution on the nodes;
+    slide_pn (M,) the normal percussion delivered while sliding.
+    """
+
+    s0: np.ndarray
+    lam: np.ndarray
+    mu: np.ndarray
+    kc: np.ndarray
+    nodes: np.ndarray
+    tau: np.ndarray
+    mode: np.ndarray
+    t_a: np.ndarray
+    p_a: np.ndarray
+    pn_a: np.ndarray
+    v1: np.ndarray
+    v2: np.ndarray
+    active: np.ndarray
+    p: np.ndarray
+    ft: np.ndarray
+    dft: np.ndarray
+    slide_pn: np.ndarray
+
+
+def _stick_segment(pl, stick, Phi, r, st):
     """Advance the rows ``r`` through one stick segment: v_j = Φ_j·Φ_{k+1}⁻¹·M_part·v_a."""
     n = pl.n
     R = _rows(r, pl.x.shape[0])
     RC = (R, None)  # the rows as a column, against the nodes
     hr = pl.h[R]
-    ta = t_a[r]  # a copy: t_a is updated below
+    ta = st.t_a[r]  # a copy: t_a is updated below
     k = np.minimum((ta / hr).astype(int), n - 1)
     t_k1 = (k + 1) * hr
     qg = np.sqrt(pl.at(r, pl.gauss_points(ta, t_k1))[0])
     Mp = _magnus(stick, R, qg[:, 0], qg[:, 1], t_k1 - ta)
-    w1 = Mp[0] * v1[R] + Mp[1] * v2[R]
-    w2 = Mp[2] * v1[R] + Mp[3] * v2[R]
+    w1 = Mp[0] * st.v1[R] + Mp[1] * st.v2[R]
+    w2 = Mp[2] * st.v1[R] + Mp[3] * st.v2[R]
     P = Phi[:, r, k + 1]  # Φ_{k+1}, det 1: its inverse is [[d, −b], [−c, a]]
     c1 = P[3] * w1 - P[1] * w2
     c2 = P[0] * w2 - P[2] * w1
@@ -417,8 +395,8 @@ def _stick_segment(
     V2 = Ph[2] * c1[:, None] + Ph[3] * c2[:, None]
     q = pl.q[R]
     F = stick.force(V1, q, RC)
-    g = np.abs(F) - mu[RC] * pl.f[R]
-    hit = (nodes > k[:, None]) & (g > 0)
+    g = np.abs(F) - st.mu[RC] * pl.f[R]
+    hit = (st.nodes > k[:, None]) & (g > 0)
     has = hit.any(axis=1)
     te = np.full(r.size, np.inf)
     ev = np.nonzero(has)[0]
@@ -431,11 +409,11 @@ def _stick_segment(
         te[ev] = np.maximum(
             _linear_root((j - 1) * he, j * he, np.minimum(g[ev, j - 1], 0.0), g[ev, j]), ta[ev]
         )
-    tr = tau[R]
+    tr = st.tau[R]
     own = (tr >= ta[:, None]) & (tr < te[:, None])
-    ft_out[R] = np.where(own, F, ft_out[R])
-    p_out[R] = np.where(own, (s0[RC] - V2) / lam[RC], p_out[R])
-    dft_out[R] = np.where(own, stick.dforce(V1, V2, q, pl.qd[R], RC), dft_out[R])
+    st.ft[R] = np.where(own, F, st.ft[R])
+    st.p[R] = np.where(own, (st.s0[RC] - V2) / st.lam[RC], st.p[R])
+    st.dft[R] = np.where(own, stick.dforce(V1, V2, q, pl.qd[R], RC), st.dft[R])
     done = ~has
     if ev.size:
         # the state at the switch: one partial step from the node before it
@@ -448,53 +426,32 @@ def _stick_segment(
         Mq = _magnus(stick, re, qg[:, 0], qg[:, 1], te[ev] - tl_node)
         a, b = V1[ev, tl], V2[ev, tl]
         xi, s = Mq[0] * a + Mq[1] * b, Mq[2] * a + Mq[3] * b
-        mode[re] = np.where(stick.force(xi, qg[:, 2], re) >= 0, 1, -1)
-        t_a[re] = te[ev]
-        p_a[re] = (s0[re] - s) / lam[re]
-        pn_a[re] = 1.0 - u[:, 2]
+        st.mode[re] = np.where(stick.force(xi, qg[:, 2], re) >= 0, 1, -1)
+        st.t_a[re] = te[ev]
+        st.p_a[re] = (st.s0[re] - s) / st.lam[re]
+        st.pn_a[re] = 1.0 - u[:, 2]
         done[ev] |= te[ev] >= pl.tau_c[re] * (1 - 1e-12)
-    active[r[done]] = False
+    st.active[r[done]] = False
 
 
-def _slide_segment(
-    pl,
-    stick,
-    r,
-    t_a,
-    p_a,
-    pn_a,
-    v1,
-    v2,
-    mode,
-    active,
-    s0,
-    lam,
-    mu,
-    kc,
-    tau,
-    nodes,
-    p_out,
-    ft_out,
-    dft_out,
-    slide_pn,
-):
+def _slide_segment(pl, stick, r, st):
     """Advance the rows ``r`` through one slide segment (closed form) to the release."""
     R = _rows(r, pl.x.shape[0])
     RC = (R, None)  # the rows as a column, against the nodes
-    sig = mode[r].astype(float)
-    mr = mu[RC]
+    sig = st.mode[r].astype(float)
+    mr = st.mu[RC]
     smr = sig[:, None] * mr
-    ta = t_a[r]  # a copy: t_a is updated below
-    pn_s = pn_a[r]  # a copy, as ta
-    Pj = p_a[RC] + smr * (pl.pn[R] - pn_s[:, None])
+    ta = st.t_a[r]  # a copy: t_a is updated below
+    pn_s = st.pn_a[r]  # a copy, as ta
+    Pj = st.p_a[RC] + smr * (pl.pn[R] - pn_s[:, None])
     # release: σ·d(free spring force)/dτ − μ·f' < 0 (module notes)
     f, df = pl.f[R], pl.df[R]
-    Rl = sig[:, None] * kc[RC] * pl.q[R] * (s0[RC] - lam[RC] * Pj) - mr * df
+    Rl = sig[:, None] * st.kc[RC] * pl.q[R] * (st.s0[RC] - st.lam[RC] * Pj) - mr * df
     if stick.total:  # on the cap ξ = σμf/(kc√x): the term kc·q'·ξ = μ·f·u/(2x)
         Rl = Rl + np.where(pl.pos[R], mr * f * pl.u[R] / pl.x2[R], 0.0)
-    tr = tau[R]
+    tr = st.tau[R]
     hit = (tr > ta[:, None]) & pl.inner[R] & (Rl < 0)
-    has = hit.any(axis=1) & (mu[R] > 0)
+    has = hit.any(axis=1) & (st.mu[R] > 0)
     t_r = np.full(r.size, np.inf)
     ev = np.nonzero(has)[0]
     if ev.size:
@@ -507,22 +464,22 @@ def _slide_segment(
             ta[ev],
         )
     own = (tr >= ta[:, None]) & (tr < t_r[:, None])
-    ft_out[R] = np.where(own, smr * f, ft_out[R])
-    dft_out[R] = np.where(own, smr * df, dft_out[R])
-    p_out[R] = np.where(own, Pj, p_out[R])
+    st.ft[R] = np.where(own, smr * f, st.ft[R])
+    st.dft[R] = np.where(own, smr * df, st.dft[R])
+    st.p[R] = np.where(own, Pj, st.p[R])
     pn_b = pl.pn[r, -1]
     if ev.size:
         x, u, f_ = (y[:, 0] for y in pl.at(re, t_r[ev][:, None]))
         pn_ = 1.0 - u
         pn_b[ev] = pn_
-        pr = p_a[re] + sig[ev] * mu[re] * (pn_ - pn_s[ev])
-        cap = sig[ev] * mu[re] * f_
+        pr = st.p_a[re] + sig[ev] * st.mu[re] * (pn_ - pn_s[ev])
+        cap = sig[ev] * st.mu[re] * f_
         q = np.sqrt(x)
         with np.errstate(divide="ignore", invalid="ignore"):
-            xi = np.where(q > 0, cap / (kc[re] * np.where(q > 0, q, 1.0)), 0.0)
-        v1[re] = xi if stick.total else cap
-        v2[re] = s0[re] - lam[re] * pr
-        mode[re] = 0
-        t_a[re] = t_r[ev]
-    slide_pn[R] += pn_b - pn_s
-    active[r[~has]] = False
+            xi = np.where(q > 0, cap / (st.kc[re] * np.where(q > 0, q, 1.0)), 0.0)
+        st.v1[re] = xi if stick.total else cap
+        st.v2[re] = st.s0[re] - st.lam[re] * pr
+        st.mode[re] = 0
+        st.t_a[re] = t_r[ev]
+    st.slide_pn[R] += pn_b - pn_s
+    st.active[r[~has]] = False
