@@ -21,8 +21,8 @@ from pipeline import score as _score
 from pipeline.percussion import cumulative_percussion
 from pipeline.simulate import impact
 
-#: The bundled 15° Garland–Rogers-style scene (README): 25.4 mm steel ball on a steel cap.
-BASE_SCENE = Scene(
+#: The Garland–Rogers rig (25.4 mm steel ball on a 25.4 mm steel cap) and the bundled 15° scene.
+GR_RIG = dict(
     radius=0.0127,
     density=7850.0,
     E=210e9,
@@ -30,6 +30,9 @@ BASE_SCENE = Scene(
     target_E=210e9,
     target_nu=0.29,
     target_radius=0.0254,
+)
+BASE_SCENE = Scene(
+    **GR_RIG,
     speed=0.6,
     angle_deg=15.0,
     mu=0.131,

@@ -52,15 +52,8 @@ from pipeline.fit.forward import ForwardModel, prepare
 from pipeline.sensor_model import to_sensor
 from pipeline.simulate import impact
 
-GR = dict(
-    radius=0.0127,
-    density=7850.0,
-    E=210e9,
-    nu=0.29,
-    target_E=210e9,
-    target_nu=0.29,
-    target_radius=0.0254,
-)
+from ._truth import GR_RIG as GR
+
 SCENE = Scene(**GR, speed=0.6, angle_deg=15.0, mu=0.131, e=0.9)
 SLIDING = Scene(**GR, speed=0.6, angle_deg=45.0, mu=0.10, e=0.9)  # slides throughout
 NOISE = 0.004  # of F_max

@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import xarray as xr
+from _rig import GR_RIG as STEEL
 
 from pipeline import InputError, Scene, analyse
 from pipeline.errors import PoorFitWarning
@@ -21,15 +22,6 @@ from pipeline.report import findings, reproduce, sample_files
 from pipeline.simulate import impact, to_sensor
 
 SAMPLES = Path(__file__).resolve().parent.parent / "data_samples"
-STEEL = dict(
-    radius=0.0127,
-    density=7850.0,
-    E=210e9,
-    nu=0.29,
-    target_E=210e9,
-    target_nu=0.29,
-    target_radius=0.0254,
-)
 
 
 def _analyse(record, scene, **kw):

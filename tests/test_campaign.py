@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import pytest
+from _rig import GR_RIG
 
 from pipeline import Scene
 from pipeline.campaigns import campaign, plan, record_files, table_of, trends, write_campaign
@@ -29,13 +30,7 @@ ROOT = Path(__file__).resolve().parents[1]
 SAMPLES = ROOT / "data_samples"
 
 BASE = Scene(
-    radius=0.0127,
-    density=7850.0,
-    E=210e9,
-    nu=0.29,
-    target_E=210e9,
-    target_nu=0.29,
-    target_radius=0.0254,
+    **GR_RIG,
     speed=0.6,
     angle_deg=15.0,
     mu=0.13,

@@ -15,6 +15,7 @@ import warnings
 
 import numpy as np
 import pytest
+from _rig import GR_RIG as GR
 
 from pipeline import Scene, fit_campaign
 from pipeline.contact import calibrate_hunt_crossley_family, cor_hunt_crossley_alpha
@@ -22,15 +23,6 @@ from pipeline.errors import InputError, PipelineWarning
 from pipeline.sensor_model import to_sensor
 from pipeline.simulate import impact
 
-GR = dict(
-    radius=0.0127,
-    density=7850.0,
-    E=210e9,
-    nu=0.29,
-    target_E=210e9,
-    target_nu=0.29,
-    target_radius=0.0254,
-)
 A, B = 0.10, 0.20  # μ = a + b·v_t0 [b in s/m]
 ALPHA = calibrate_hunt_crossley_family(0.9) / 0.45  # e = 0.9 at v_n0 = 0.45 m/s
 

@@ -14,6 +14,7 @@ import warnings
 
 import numpy as np
 import pytest
+from _rig import GR_RIG as GR
 
 from pipeline import Scene, contact
 from pipeline.errors import InputError, PipelineWarning
@@ -24,17 +25,6 @@ from pipeline.fit.tangential import tangential_response
 from pipeline.fit.uncertainty import block_length
 from pipeline.sensor_model import to_sensor
 from pipeline.simulate import impact
-
-# Garland–Rogers-like: 25.4 mm steel ball on a 25.4 mm steel cap (Garland & Rogers 2009)
-GR = dict(
-    radius=0.0127,
-    density=7850.0,
-    E=210e9,
-    nu=0.29,
-    target_E=210e9,
-    target_nu=0.29,
-    target_radius=0.0254,
-)
 
 
 def gr(**kw):

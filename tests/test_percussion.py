@@ -19,6 +19,7 @@ import warnings
 
 import numpy as np
 import pytest
+from _rig import GR_RIG
 from scipy.integrate import solve_ivp
 
 from pipeline.contact import calibrate_hunt_crossley_family, hertz_impact, hertz_pulse
@@ -277,13 +278,7 @@ def test_summaries_are_strict_json():
 # A Garland–Rogers-like impact (Garland & Rogers 2009): 25.4 mm steel ball on a steel cap, 15°,
 # Mindlin contact with a tangential reversal, through the sensor model without cross-talk.
 GR = Scene(
-    radius=0.0127,
-    density=7850.0,
-    E=210e9,
-    nu=0.29,
-    target_E=210e9,
-    target_nu=0.29,
-    target_radius=0.0254,
+    **GR_RIG,
     speed=0.6,
     angle_deg=15.0,
     mu=0.131,

@@ -14,6 +14,7 @@ import warnings
 from pathlib import Path
 
 import pytest
+from _rig import GR_RIG as GR
 
 from pipeline import Scene, analyse, select_model
 from pipeline.errors import InputError, PipelineWarning
@@ -29,15 +30,6 @@ from pipeline.simulate import impact
 
 SAMPLES = Path(__file__).resolve().parents[1] / "data_samples"
 MAIN = SAMPLES / "gr_15deg_0.6ms.csv"
-GR = dict(
-    radius=0.0127,
-    density=7850.0,
-    E=210e9,
-    nu=0.29,
-    target_E=210e9,
-    target_nu=0.29,
-    target_radius=0.0254,
-)
 
 
 def quiet(fn, *args, **kw):

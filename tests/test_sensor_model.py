@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from _rig import GR_RIG
 
 from pipeline import InputError, Scene
 from pipeline.contact import hertz_impact, hertz_pulse
@@ -22,13 +23,7 @@ from pipeline.sensor_model import SensorSaturationWarning, to_sensor
 
 # Garland–Rogers-like scene (Garland & Rogers 2009): 25.4 mm steel ball on a 25.4 mm steel cap.
 SCENE = Scene(
-    radius=0.0127,
-    density=7850.0,
-    E=210e9,
-    nu=0.29,
-    target_E=210e9,
-    target_nu=0.29,
-    target_radius=0.0254,
+    **GR_RIG,
     speed=0.6,
     angle_deg=15.0,
 )

@@ -360,12 +360,11 @@ def test_a_noise_free_sensor_record_finds_its_contact():
     cross-talk of the sensor model) has residual baselines at rounding level; the contact
     must still be found where it is (it was refused as 'cut mid-pulse'): from first contact
     to t_c plus the filter's delay (order-2 Butterworth at 300 kHz: lag √2/(2π·f_c) ≈ 0.75 µs)."""
+    from _rig import GR_RIG
+
     from pipeline.simulate import impact, to_sensor
 
-    scene = Scene(
-        radius=0.0127, density=7850.0, E=210e9, nu=0.29, target_E=210e9, target_nu=0.29,
-        target_radius=0.0254, speed=0.6, angle_deg=15.0, mu=0.13, e=0.9,
-    )  # fmt: skip
+    scene = Scene(**GR_RIG, speed=0.6, angle_deg=15.0, mu=0.13, e=0.9)
     ideal = impact(scene, samples=2001)
     w = find_contact(to_sensor(ideal, seed=3, noise=0.0, bits=None))
     dt = 0.5e-6  # the default 2 MHz
