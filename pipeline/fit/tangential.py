@@ -236,6 +236,24 @@ def _linear_root(lo, hi, g_lo, g_hi):
     return lo + np.clip(th, 0.0, 1.0) * (hi - lo)
 
 
+def _first_crossing(pl, r, hit, g, t_from):
+    """Where g (rows ``r``, on the nodes) first rises through zero: by regula falsi between
+    the first node marked in ``hit`` and the one before it, not before ``t_from``.
+
+    Returns the instants (inf for a row without a hit), the rows with one (bool), and their
+    positions in ``r``.
+    """
+    has = hit.any(axis=1)
+    t = np.full(r.size, np.inf)
+    ev = np.nonzero(has)[0]
+    if ev.size:
+        j = hit[ev].argmax(axis=1)
+        he = pl.h[r[ev]]
+        g_lo = np.minimum(g[ev, j - 1], 0.0)
+        t[ev] = np.maximum(_linear_root((j - 1) * he, j * he, g_lo, g[ev, j]), t_from[ev])
+    return t, has, ev
+
+
 def tangential_response(
     pulse: NormalPulse,
     s0,
@@ -396,19 +414,9 @@ def _stick_segment(pl, stick, Phi, r, st):
     q = pl.q[R]
     F = stick.force(V1, q, RC)
     g = np.abs(F) - st.mu[RC] * pl.f[R]
-    hit = (st.nodes > k[:, None]) & (g > 0)
-    has = hit.any(axis=1)
-    te = np.full(r.size, np.inf)
-    ev = np.nonzero(has)[0]
-    if ev.size:
-        # the spring reaches the cap between nodes j − 1 and j (the trajectory extends
-        # back past t_a, so node j − 1 is on it even when t_a lies beyond it)
-        j = hit[ev].argmax(axis=1)
-        re = r[ev]
-        he = pl.h[re]
-        te[ev] = np.maximum(
-            _linear_root((j - 1) * he, j * he, np.minimum(g[ev, j - 1], 0.0), g[ev, j]), ta[ev]
-        )
+    # the spring reaches the cap (the trajectory extends back past t_a, so the node before
+    # the first hit is on it even when t_a lies beyond it)
+    te, has, ev = _first_crossing(pl, r, (st.nodes > k[:, None]) & (g > 0), g, ta)
     tr = st.tau[R]
     own = (tr >= ta[:, None]) & (tr < te[:, None])
     st.ft[R] = np.where(own, F, st.ft[R])
@@ -417,6 +425,8 @@ def _stick_segment(pl, stick, Phi, r, st):
     done = ~has
     if ev.size:
         # the state at the switch: one partial step from the node before it
+        re = r[ev]
+        he = pl.h[re]
         tl = np.minimum((te[ev] / he).astype(int), n - 1)
         tl_node = tl * he
         # x at the partial step's Gauss points and x, u at the switch: one interpolation
@@ -450,25 +460,16 @@ def _slide_segment(pl, stick, r, st):
     if stick.total:  # on the cap ξ = σμf/(kc√x): the term kc·q'·ξ = μ·f·u/(2x)
         Rl = Rl + np.where(pl.pos[R], mr * f * pl.u[R] / pl.x2[R], 0.0)
     tr = st.tau[R]
-    hit = (tr > ta[:, None]) & pl.inner[R] & (Rl < 0)
-    has = hit.any(axis=1) & (st.mu[R] > 0)
-    t_r = np.full(r.size, np.inf)
-    ev = np.nonzero(has)[0]
-    if ev.size:
-        j = hit[ev].argmax(axis=1)
-        re = r[ev]
-        he = pl.h[re]
-        # −R rises through zero between nodes j − 1 and j (closed form extends before t_a)
-        t_r[ev] = np.maximum(
-            _linear_root((j - 1) * he, j * he, np.minimum(-Rl[ev, j - 1], 0.0), -Rl[ev, j]),
-            ta[ev],
-        )
+    # −R rises through zero (the closed form extends before t_a); μ = 0 never sticks
+    hit = (tr > ta[:, None]) & pl.inner[R] & (Rl < 0) & (st.mu[R] > 0)[:, None]
+    t_r, has, ev = _first_crossing(pl, r, hit, -Rl, ta)
     own = (tr >= ta[:, None]) & (tr < t_r[:, None])
     st.ft[R] = np.where(own, smr * f, st.ft[R])
     st.dft[R] = np.where(own, smr * df, st.dft[R])
     st.p[R] = np.where(own, Pj, st.p[R])
     pn_b = pl.pn[r, -1]
     if ev.size:
+        re = r[ev]
         x, u, f_ = (y[:, 0] for y in pl.at(re, t_r[ev][:, None]))
         pn_ = 1.0 - u
         pn_b[ev] = pn_
