@@ -8,7 +8,7 @@ export OPENBLAS_NUM_THREADS := 1
 export OMP_NUM_THREADS := 1
 export MPLBACKEND := Agg
 
-.PHONY: all venv test test-narrow-simd test-fuzz reproduce bench data lint clean
+.PHONY: all venv test test-loaded test-narrow-simd test-fuzz reproduce bench data lint clean
 
 all: test
 
@@ -22,6 +22,12 @@ venv: $(STAMP)
 
 test: $(STAMP)
 	MPLCONFIGDIR=$$(mktemp -d) $(PY) -m pytest -q
+
+# The whole suite again beside one CPU-burning process per core: a test that depends on the
+# machine's speed (a wall-clock limit, a sleep, "some runs will have finished by now")
+# fails here first.
+test-loaded: $(STAMP)
+	MPLCONFIGDIR=$$(mktemp -d) $(PY) scripts/loaded.py $(PY) -m pytest -q
 
 # The numeric tests again with NumPy's SIMD dispatch narrowed to its baseline: every
 # dispatched feature this CPU has is disabled, so sums are taken in another order.

@@ -10,12 +10,16 @@ Property tests scale their example counts by the profile's ``max_examples`` (the
 100 by default (``make test``: a few thousand examples in all, some 15 s), 500 under the
 ``fuzz`` profile that CI runs (``make test-fuzz``: over 10,000 examples in all).
 ``HYPOTHESIS_PROFILE=<name>`` picks a profile.
+
+No test may depend on the machine's speed (``make test-loaded`` runs the suite beside a
+CPU-burning process to prove it): every profile drops Hypothesis's per-example deadline and
+its "data generation too slow" health check, both measured in wall-clock time.
 """
 
 import os
 
 import pytest
-from hypothesis import settings
+from hypothesis import HealthCheck, settings
 
 
 @pytest.fixture(autouse=True, scope="session")
@@ -31,8 +35,11 @@ def _outcome_table_cache(tmp_path_factory):
         os.environ["PIPELINE_CACHE"] = old
 
 
-settings.register_profile("ci", derandomize=True, database=None, print_blob=True)
+_UNTIMED = dict(deadline=None, suppress_health_check=[HealthCheck.too_slow])
+settings.register_profile("local", **_UNTIMED)
+settings.register_profile("ci", derandomize=True, database=None, print_blob=True, **_UNTIMED)
 settings.register_profile("fuzz", parent=settings.get_profile("ci"), max_examples=500)
+settings.load_profile("local")
 if os.environ.get("CI"):
     settings.load_profile("ci")
 if os.environ.get("HYPOTHESIS_PROFILE"):

@@ -26,7 +26,6 @@ def _run(args, tmp_path):
         cwd=tmp_path,
         capture_output=True,
         text=True,
-        timeout=300,
         check=False,
     )
     return out.returncode, out.stdout, out.stderr
@@ -133,7 +132,6 @@ def test_export_command_writes_a_script_lammps_runs(tmp_path):
         cwd=tmp_path,
         capture_output=True,
         text=True,
-        timeout=300,
         check=False,
     )
     assert "RESULT e_n 0.8" in run.stdout or "RESULT e_n 0.9" in run.stdout, run.stdout[-500:]

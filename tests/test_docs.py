@@ -42,7 +42,8 @@ def executed():
         client = nbclient.NotebookClient(
             nb,
             kernel_name="python3",
-            timeout=300,
+            timeout=None,  # no wall-clock limit: the suite runs on loaded machines
+            startup_timeout=3600,
             resources={"metadata": {"path": str(NOTEBOOK.parent)}},
         )
         client.execute()

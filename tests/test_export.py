@@ -40,7 +40,6 @@ def _run_lammps(script: str, tmp_path: Path) -> dict:
         cwd=tmp_path,
         capture_output=True,
         text=True,
-        timeout=300,
         check=False,
     )
     line = [ln for ln in out.stdout.splitlines() if ln.startswith("RESULT")]
