@@ -34,9 +34,12 @@ from . import smooth as _smooth
 from . import window as _window
 from ._json import json_ready
 from .errors import InputError
+from .fit import select_model
+from .percussion import estimate_mu
 from .plausibility import check_plausible
 from .record import channel
 from .scene import Scene
+from .smooth import noise_level
 
 __all__ = ["Analysis", "Outcomes", "analyse", "estimate_mu", "noise_level", "MIN_SAMPLES"]
 
@@ -354,35 +357,6 @@ def _jsonable(v):
     return isinstance(v, (int, float, str, bool, type(None)))
 
 
-def estimate_mu(window, t_c: float, *, level: float = 0.3, band: float = 0.1) -> float:
-    """Friction coefficient from the record: Ft/Fn where the ball slides in compression [-].
-
-    While the contact slides, Coulomb's law holds with equality, Ft/Fn = μ; once it sticks
-    (the sticking regime, after corner A — often early in compression, docs/theory.md) or
-    micro-slips, Ft/Fn < μ. So μ is the upper plateau of the ratio: over the samples before
-    maximum compression ``t_c`` [s] where Fn exceeds ``level`` of its peak, the median of the
-    ratios within ``band`` (relative) of their 95th percentile. For a record that slides
-    throughout this is the median of nearly every ratio (a cut 10 % under the top removes
-    only noise beyond a few σ); for a sticking record it skips the stuck samples. Returns
-    NaN without an Ft channel or without such samples; needs some sliding samples above the
-    level (a contact that sticks almost at once gives an estimate below μ).
-    """
-    rec = window.record
-    if "Ft" not in rec:
-        return float("nan")
-    tn, fn = channel(rec, "Fn")
-    tt, ft = channel(rec, "Ft")
-    fn_at = np.interp(tt, tn, fn)
-    sel = (tt <= t_c) & (fn_at > level * np.max(fn))
-    if not sel.any():
-        return float("nan")
-    r = ft[sel] / fn_at[sel]
-    top = float(np.quantile(r, 0.95))
-    if top > 0:
-        r = r[r >= (1.0 - band) * top]
-    return float(np.median(r))
-
-
 def analyse(
     record: xr.Dataset,
     scene: Scene,
@@ -475,8 +449,6 @@ def analyse(
     mu_rec = estimate_mu(win, split.t_c)
     selection = None
     if _wants_fit(mu, scene.mu, scene) or _wants_fit(e, scene.e, scene):
-        from .fit import select_model
-
         selection = select_model(
             record,
             scene,
@@ -589,28 +561,6 @@ def _choose(how, from_scene, from_record, name, selection=None) -> tuple[float, 
             return float(np.clip(from_record, 0.0, 1.0 if name == "e" else np.inf)), "record"
         raise InputError(f"{name}={how!r}: use 'scene', 'fit', 'record' or a number")
     return float(how), "given"
-
-
-def noise_level(window, fits, name) -> float:
-    """Noise σ of channel ``name`` in the window [N], for the bootstrap.
-
-    The window's baseline estimate where it made one (sensor records); else, for dense
-    channels (≥ 50 samples), the robust second-difference estimate
-    1.4826·median|Δ²F|/√6 (white noise of σ gives Δ²F of σ√6, the smooth pulse almost
-    nothing); else (sparse, digitised) the RMS residual of the GCV smoothing spline,
-    which follows the curve where a low-degree polynomial would leave its misfit in the
-    residuals; with fewer than 5 samples the polynomial fit's residual standard deviation
-    (NaN when the fit interpolates: no estimate).
-    """
-    sigma = float(window.noise.get(name, float("nan")))
-    if np.isfinite(sigma):
-        return sigma
-    t, f = channel(window.record, name)
-    if t.size >= 50:
-        return float(1.4826 * np.median(np.abs(np.diff(f, 2))) / np.sqrt(6.0))
-    if t.size >= 5:
-        return float(_smooth.fit_spline(t, f, t_start=window.t_start, t_end=window.t_end).rms)
-    return float(getattr(fits, name).sigma)
 
 
 def _bootstrap(win, perc, fits, n_boot, seed) -> dict:

@@ -7,7 +7,10 @@ and what the user can do about it.
 
 from __future__ import annotations
 
-__all__ = ["InputError", "PipelineWarning", "PoorFitWarning", "PlaneImpactWarning"]
+import os
+import sys
+
+__all__ = ["InputError", "PipelineWarning", "PoorFitWarning", "PlaneImpactWarning", "caller_level"]
 
 
 class InputError(ValueError):
@@ -135,3 +138,18 @@ class PeakForceWarning(PlausibilityWarning):
 
 class ImpulseWarning(PlausibilityWarning):
     """The normal impulse is outside m*·v_n0·[1, 2], the range e ∈ [0, 1] allows."""
+
+
+def caller_level(where) -> int:
+    """``stacklevel`` that points a warning at the first frame outside ``where`` (a folder,
+    such as the readers' ``pipeline/io``, whose functions reach each other through one to
+    three calls: load → read_sensor → ...; or one module's file). Call it from the function
+    that warns."""
+    where = str(where)
+    inside = (
+        (lambda f: f == where) if where.endswith(".py") else (lambda f: os.path.dirname(f) == where)
+    )
+    frame, level = sys._getframe(1), 1  # the frame that calls warnings.warn
+    while frame is not None and inside(frame.f_code.co_filename):
+        frame, level = frame.f_back, level + 1
+    return level

@@ -66,6 +66,7 @@ from pathlib import Path
 from .contact import calibrate_hertz_dashpot, hertz_impact, zeta_hertz_dashpot_dem
 from .errors import InputError
 from .scene import Scene
+from .simulate.lammps import tsuji_alpha, tsuji_cor_input
 
 __all__ = [
     "TARGETS",
@@ -249,8 +250,6 @@ def _lammps_tsuji_input(e: float) -> tuple[float, float]:
     """(number to give ``damping tsuji``, α it makes): α = 2ζ, ζ the exact secant-stiffness
     damping ratio for e; the number is where LAMMPS's polynomial reaches that α
     (:func:`pipeline.simulate.lammps.tsuji_cor_input`)."""
-    from .simulate.lammps import tsuji_alpha, tsuji_cor_input
-
     if e == 1.0:
         return 1.0, float(tsuji_alpha(1.0))
     alpha = 2.0 * float(calibrate_hertz_dashpot(e, "secant"))

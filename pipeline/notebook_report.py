@@ -27,6 +27,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ._atomic import atomic_write_text
+from ._json import json_ready
 from .errors import InputError
 
 __all__ = [
@@ -233,6 +234,4 @@ def campaign_report(dataset, out_dir, *, html: bool = True) -> NotebookReport:
 
 
 def _json_scene(scene) -> dict:
-    from ._json import json_ready
-
     return json_ready(scene.to_dict() if hasattr(scene, "to_dict") else dict(scene))

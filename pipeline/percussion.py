@@ -96,7 +96,6 @@ Y. Wang, M. T. Mason, J. Appl. Mech. 59:635 (1992), doi:10.1115/1.2893771.
 
 from __future__ import annotations
 
-import math
 import warnings
 from dataclasses import dataclass
 
@@ -106,9 +105,12 @@ from scipy import integrate, optimize
 
 from ._json import json_ready
 from .errors import InputError, PipelineWarning, PoorFitWarning
-from .record import channel
+from .record import adc_step, channel
+from .smooth import fit_window
+from .window import ContactWindow
 
 __all__ = [
+    "estimate_mu",
     "Percussions",
     "CompressionSplit",
     "Resolution",
@@ -421,8 +423,6 @@ def percussions(window, fits=None, *, t_start=None, t_end=None) -> Percussions:
     -------
     Percussions
     """
-    from .smooth import fit_window
-
     record = getattr(window, "record", window)
     if not isinstance(record, xr.Dataset):
         raise InputError("percussions needs a ContactWindow or a windowed record")
@@ -434,8 +434,6 @@ def percussions(window, fits=None, *, t_start=None, t_end=None) -> Percussions:
     if not te > ts:
         raise InputError(f"the window must have t_end > t_start, got [{ts}, {te}] s")
     if fits is None:
-        from .window import ContactWindow
-
         cw = (
             window
             if isinstance(window, ContactWindow)
@@ -804,36 +802,6 @@ def _trapezoid_weights(t):
     return w
 
 
-def adc_step(values) -> float:
-    """Step of the grid the values lie on [same unit], 0 when they lie on none.
-
-    The greatest common divisor q of the gaps between distinct values (Euclid's algorithm
-    in floating point, remainders within 1e-9 of the values' scale counted as zero),
-    accepted when every gap is a whole multiple of q to 1e-3 of q and q is coarser than
-    1e-6 of the scale: the ADC quantum of a raw converter output, or the printed resolution
-    of a file's column. A smooth pulse sampled 200 times leaves gaps of 5q, 16q, 27q, ...
-    whose smallest is not the step. Needs three distinct values.
-    """
-    u = np.unique(np.asarray(values, dtype=float))
-    u = u[np.isfinite(u)]
-    if u.size < 3:
-        return 0.0
-    gaps = np.unique(np.diff(u))
-    scale = float(np.max(np.abs(u)))
-    tol = 1e-9 * scale
-    q = float(gaps[0])
-    for g in gaps[1:256]:  # a few hundred gaps pin the divisor down
-        a, b = float(g), q
-        while b > tol:
-            r = math.fmod(a, b)
-            a, b = b, (0.0 if r < tol or b - r < tol else r)
-        q = a
-        if q <= 1e-6 * scale:
-            return 0.0
-    k = gaps / q
-    return q if np.all(np.abs(k - np.round(k)) < 1e-3) else 0.0
-
-
 def resolution(
     window,
     perc: Percussions,
@@ -1010,3 +978,32 @@ def _baseline_left(record, window, name) -> tuple[float, float]:
     dP = float(v @ coef)
     se = float(np.sqrt(s2 * (v @ np.linalg.solve(A.T @ A, v))))
     return dP, se
+
+
+def estimate_mu(window, t_c: float, *, level: float = 0.3, band: float = 0.1) -> float:
+    """Friction coefficient from the record: Ft/Fn where the ball slides in compression [-].
+
+    While the contact slides, Coulomb's law holds with equality, Ft/Fn = μ; once it sticks
+    (the sticking regime, after corner A — often early in compression, docs/theory.md) or
+    micro-slips, Ft/Fn < μ. So μ is the upper plateau of the ratio: over the samples before
+    maximum compression ``t_c`` [s] where Fn exceeds ``level`` of its peak, the median of the
+    ratios within ``band`` (relative) of their 95th percentile. For a record that slides
+    throughout this is the median of nearly every ratio (a cut 10 % under the top removes
+    only noise beyond a few σ); for a sticking record it skips the stuck samples. Returns
+    NaN without an Ft channel or without such samples; needs some sliding samples above the
+    level (a contact that sticks almost at once gives an estimate below μ).
+    """
+    rec = window.record
+    if "Ft" not in rec:
+        return float("nan")
+    tn, fn = channel(rec, "Fn")
+    tt, ft = channel(rec, "Ft")
+    fn_at = np.interp(tt, tn, fn)
+    sel = (tt <= t_c) & (fn_at > level * np.max(fn))
+    if not sel.any():
+        return float("nan")
+    r = ft[sel] / fn_at[sel]
+    top = float(np.quantile(r, 0.95))
+    if top > 0:
+        r = r[r >= (1.0 - band) * top]
+    return float(np.median(r))

@@ -51,6 +51,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ._json import json_ready
+from .contact import hertz_impact
 from .errors import (
     ContactTimeWarning,
     ImpulseWarning,
@@ -62,6 +63,7 @@ from .io.metadata import unit_for
 from .io.units import force_factor, time_factor
 from .record import channel
 from .scene import Scene
+from .window import find_contact
 
 __all__ = ["Check", "Plausibility", "check_plausible", "BANDS"]
 
@@ -161,8 +163,6 @@ def check_plausible(record, scene: Scene, *, window=None) -> Plausibility:
     ContactTimeWarning, PeakForceWarning, ImpulseWarning
         A ratio outside its band (:data:`BANDS`) but not a unit factor.
     """
-    from .window import find_contact
-
     if not isinstance(scene, Scene):
         raise InputError("check_plausible needs a pipeline.Scene describing the impact")
     win = find_contact(record) if window is None else window
@@ -193,8 +193,6 @@ def check_plausible(record, scene: Scene, *, window=None) -> Plausibility:
 
 
 def _hertz(scene):
-    from .contact import hertz_impact
-
     if scene.E is None or scene.nu is None:
         return None, "the scene gives no E and nu: no Hertz estimate"
     if not scene.v_n0 > 0:

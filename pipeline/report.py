@@ -46,9 +46,11 @@ from ._json import json_ready
 from .advice import advice_for
 from .analysis import Analysis, analyse
 from .errors import InputError
+from .fit import fit_contact
 from .io import load, load_contact, read_json
 from .percussion import compression_split, percussions
 from .scene import Scene
+from .score import NEAR_ZERO
 from .window import find_contact
 
 __all__ = [
@@ -68,12 +70,6 @@ __all__ = [
 ]
 
 log = logging.getLogger(__name__)
-
-#: A deviation metric below this (dimensionless, of P_ref or Pt_ref) is "near zero": the
-#: largest departure a record that follows the broken line shows in this pipeline
-#: (simulated Coulomb records: < 0.001; tests/test_score.py) with a factor 20 of margin
-#: for sensor effects.
-NEAR_ZERO = 0.02
 
 MAIN_RECORD = "gr_15deg_0.6ms.csv"
 
@@ -570,8 +566,6 @@ def fitted_parameters(paths, *, n_boot: int = 200, seed: int = 0) -> list:
         ``identifiable``, ``truth`` and ``error`` (value − truth); a failed fit gives
         ``error`` with the reason. Records without such a sidecar are skipped.
     """
-    from .fit import fit_contact
-
     out = []
     for path in paths:
         try:

@@ -28,6 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ._json import read_json
 from .errors import InputError
 
 __all__ = ["Scene", "read_scene_fields"]
@@ -326,8 +327,6 @@ def read_scene_fields(path) -> dict:
         Naming the file: missing, a directory, not UTF-8, malformed JSON, not an object, or
         a ``"scene"`` key that is not an object.
     """
-    from .io import read_json
-
     data = read_json(path, what="scene file")
     if "scene" in data:
         data = data["scene"]

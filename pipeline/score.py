@@ -70,12 +70,25 @@ import numpy as np
 
 from ._json import json_ready
 
-__all__ = ["METRICS", "PHASES", "DeviationScore", "deviation_metrics", "deviation_score"]
+__all__ = [
+    "METRICS",
+    "PHASES",
+    "NEAR_ZERO",
+    "DeviationScore",
+    "deviation_metrics",
+    "deviation_score",
+]
 
 #: Names of the dimensionless deviation metrics.
 METRICS = ("area", "max_distance", "end_Pt", "end_Pn", "Pt_max", "Pn_at_Pt_max", "Pt_drop")
 #: The phases each metric is reported for.
 PHASES = ("total", "compression", "restitution")
+#: A deviation metric below this (dimensionless, of P_ref or Pt_ref) is "near zero": the
+#: largest departure a record that follows the broken line shows in this pipeline
+#: (simulated Coulomb records: < 0.001; tests/test_score.py) with a factor 20 of margin
+#: for sensor effects. The findings of :mod:`pipeline.report` and the campaign figures
+#: judge the score against it.
+NEAR_ZERO = 0.02
 
 
 @dataclass(frozen=True)

@@ -73,8 +73,10 @@ from scipy import interpolate, linalg, special
 
 from ._json import json_ready
 from .errors import InputError, PoorFitWarning
+from .record import channel
 
 __all__ = [
+    "noise_level",
     "PolyFit",
     "PolyFitBatch",
     "SplineFit",
@@ -671,8 +673,6 @@ def fit_window(
     -------
     WindowFits
     """
-    from .record import channel
-
     if method not in ("polynomial", "spline"):
         raise InputError(f"fit method {method!r} is unknown; use 'polynomial' or 'spline'")
     out = {}
@@ -696,3 +696,25 @@ def fit_window(
             if warn and out[name].poor:
                 _warn_poor(out[name], f"{name}: ", stacklevel=3)
     return WindowFits(method=method, **out)
+
+
+def noise_level(window, fits, name) -> float:
+    """Noise σ of channel ``name`` in the window [N], for the bootstrap.
+
+    The window's baseline estimate where it made one (sensor records); else, for dense
+    channels (≥ 50 samples), the robust second-difference estimate
+    1.4826·median|Δ²F|/√6 (white noise of σ gives Δ²F of σ√6, the smooth pulse almost
+    nothing); else (sparse, digitised) the RMS residual of the GCV smoothing spline,
+    which follows the curve where a low-degree polynomial would leave its misfit in the
+    residuals; with fewer than 5 samples the polynomial fit's residual standard deviation
+    (NaN when the fit interpolates: no estimate).
+    """
+    sigma = float(window.noise.get(name, float("nan")))
+    if np.isfinite(sigma):
+        return sigma
+    t, f = channel(window.record, name)
+    if t.size >= 50:
+        return float(1.4826 * np.median(np.abs(np.diff(f, 2))) / np.sqrt(6.0))
+    if t.size >= 5:
+        return float(fit_spline(t, f, t_start=window.t_start, t_end=window.t_end).rms)
+    return float(getattr(fits, name).sigma)

@@ -83,10 +83,10 @@ import dataclasses
 import math
 import warnings
 from dataclasses import dataclass, field
+from statistics import NormalDist
 
 import numpy as np
 import xarray as xr
-from scipy import special
 
 from ._json import json_ready
 from .errors import (
@@ -97,9 +97,9 @@ from .errors import (
     SignFlipError,
     TriggerGlitchWarning,
     TruncatedPulseError,
+    caller_level,
 )
-from .io._common import caller_level
-from .record import FORCE_CHANNELS, KINDS, channel
+from .record import FORCE_CHANNELS, KINDS, adc_step, channel
 
 __all__ = [
     "Baseline",
@@ -111,7 +111,9 @@ __all__ = [
 ]
 
 #: MAD → σ for Gaussian noise: 1/Φ⁻¹(3/4).
-_MAD_TO_SIGMA = 1.0 / special.ndtri(0.75)
+#: The standard normal distribution (its quantiles give the MAD scale and the thresholds).
+_NORMAL = NormalDist()
+_MAD_TO_SIGMA = 1.0 / _NORMAL.inv_cdf(0.75)
 
 
 def _median(a):
@@ -144,7 +146,7 @@ def default_threshold(n: int, false_alarm: float = 1e-3) -> float:
     """
     if not 0 < false_alarm < 1:
         raise InputError(f"false_alarm must lie in (0, 1), got {false_alarm!r}")
-    return float(max(4.0, -special.ndtri(false_alarm / (2.0 * max(int(n), 1)))))
+    return float(max(4.0, -_NORMAL.inv_cdf(false_alarm / (2.0 * max(int(n), 1)))))
 
 
 @dataclass(frozen=True)
@@ -599,12 +601,10 @@ def _sigma(r, y) -> float:
     """Noise level of the baseline residuals ``r`` of a channel whose samples are ``y``: the
     MAD estimate; the standard deviation where the MAD is 0 (quantised, nearly noise-free);
     where both are 0 (a noise-free baseline on one ADC level) the converter's rounding
-    noise q/√12, q the grid step of the whole channel (:func:`pipeline.percussion.adc_step`);
+    noise q/√12, q the grid step of the whole channel (:func:`pipeline.record.adc_step`);
     never below :data:`_RESOLUTION_FLOOR` of the channel's range."""
     sigma = mad_sigma(r) or float(np.std(r))
     if sigma == 0.0:
-        from .percussion import adc_step
-
         sigma = adc_step(y) / math.sqrt(12.0)
     return max(sigma, _RESOLUTION_FLOOR * float(np.ptp(y)))
 

@@ -99,7 +99,9 @@ def _install(out: str, stop_at: int, fd: int) -> None:
 
 def main() -> None:
     _install(
-        os.environ["KILLPOINT_OUT"], int(os.environ["KILLPOINT_AT"]), int(os.environ["KILLPOINT_FD"])
+        os.environ["KILLPOINT_OUT"],
+        int(os.environ["KILLPOINT_AT"]),
+        int(os.environ["KILLPOINT_FD"]),
     )
     sys.argv = ["pipeline.cli", *sys.argv[1:]]
     runpy.run_module("pipeline.cli", run_name="__main__", alter_sys=True)

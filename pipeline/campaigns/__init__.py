@@ -55,6 +55,7 @@ import xarray as xr
 
 from ..analysis import analyse
 from ..errors import InputError
+from .batch import analyse_tasks
 from .dataset import assemble, table_of, trends, with_trends, write_campaign
 from .joint import joint_fit, with_joint_fit
 from .run import run_tasks
@@ -147,8 +148,6 @@ def campaign(
         raise InputError("batched=True runs in this process; leave out workers/scheduler")
     tasks = plan(paths, scenes=scenes, table=table, fit=fit, **options)
     if batched:
-        from .batch import analyse_tasks
-
         results = analyse_tasks(tasks, progress=progress)
     else:
         results = run_tasks(

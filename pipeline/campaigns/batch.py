@@ -32,6 +32,7 @@ import numpy as np
 from .. import analysis as _an
 from .. import score as _score
 from ..record import channel
+from ..smooth import noise_level
 from .tasks import RecordResult, RecordTask, _analysis_of, guarded, result_of
 
 __all__ = ["analyse_tasks", "CHUNK"]
@@ -123,7 +124,7 @@ def _bootstrap(chunk) -> list[tuple]:
         for k, item in enumerate(chunk):
             a = item[2].analysis
             mask[k, : grids[k].size] = np.isin(grids[k], channel(a.window.record, name)[0])
-            sig[k] = _an.noise_level(a.window, a.fits, name)
+            sig[k] = noise_level(a.window, a.fits, name)
         Z = rng.standard_normal((len(chunk), n_boot, g_max)) * (sig[:, None] * mask)[:, None, :]
         steps = 0.5 * (Z[..., 1:] + Z[..., :-1]) * dt
         zero = np.zeros(steps.shape[:-1] + (1,))

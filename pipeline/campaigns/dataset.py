@@ -14,8 +14,10 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from .. import __version__
+from .. import __version__, figures
+from .._atomic import atomic_path, atomic_write_text
 from .._json import json_ready
+from ..contact import alpha_hunt_crossley, cor_hunt_crossley_alpha
 from ..errors import InputError
 from ..scene import Scene
 from ..score import METRICS, PHASES
@@ -174,8 +176,6 @@ def trends(ds: xr.Dataset) -> dict:
     """
     from scipy import optimize
 
-    from ..contact import cor_hunt_crossley_alpha
-
     ok = (ds["status"] == "ok").values
     out: dict = {"n_used": int(ok.sum())}
     v_t0 = ds["v_t0"].values[ok]
@@ -216,7 +216,6 @@ def trends(ds: xr.Dataset) -> dict:
             return cor_hunt_crossley_alpha(np.exp(log_alpha), vn) - en
 
         # start from the α that gives the mean e at the mean approach speed
-        from ..contact import alpha_hunt_crossley
 
         start = math.log(float(alpha_hunt_crossley(min(e0, 0.999999), float(np.mean(vn)))))
         sol = optimize.least_squares(resid, [start], method="lm")
@@ -252,9 +251,6 @@ def _aic(rss: float, n: int, k: int) -> float:
 def write_campaign(ds: xr.Dataset, out) -> dict:
     """Write a campaign's Dataset (``campaign.nc``), its table (``campaign.csv``) and
     figures into the folder ``out``, each file atomically. Returns ``{name: path}``."""
-    from .. import figures
-    from .._atomic import atomic_path, atomic_write_text
-
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     written = {}

@@ -18,6 +18,8 @@ import warnings
 
 from .._json import json_ready
 from ..errors import InputError, PipelineWarning
+from ..fit import fit_campaign
+from ..report import load_sample
 from ..scene import Scene
 from .tasks import FIT_PARAMETERS
 
@@ -38,12 +40,6 @@ def joint_fit(tasks, ds, **options) -> dict | None:
     ds : xarray.Dataset — the campaign (its ``status`` picks the records)
     **options — passed to :func:`pipeline.fit_campaign` (``n_boot``, ``seed``, ...)
     """
-    try:
-        from ..fit import fit_campaign
-    except ImportError:
-        return None
-    from ..report import load_sample
-
     ok = [t for t, s in zip(tasks, ds["status"].values, strict=True) if s == "ok"]
     if len(ok) < 2:
         return None

@@ -23,6 +23,9 @@ from pathlib import Path
 from .._json import json_ready
 from ..analysis import OUTCOME_UNITS, Analysis, analyse
 from ..errors import InputError, PipelineWarning
+from ..fit import fit_contact
+from ..io import scene_from_metadata
+from ..report import load_sample, read_sidecar, sample_files, sidecar_path
 from ..scene import Scene
 from ..score import METRICS, PHASES
 
@@ -109,8 +112,6 @@ def record_files(paths) -> list[Path]:
     InputError
         A path that does not exist, a glob or folder with no record file.
     """
-    from ..report import sample_files
-
     items = [paths] if isinstance(paths, (str, Path)) else list(paths)
     if not items:
         raise InputError("no records given: name a folder, a glob or files")
@@ -209,8 +210,6 @@ def _given(path: Path, scenes) -> dict | None:
 def task_fields(task: RecordTask) -> tuple[dict, list]:
     """The Scene fields of a task and where they came from, later ones winning field by
     field: given (``scenes=``), the record's sidecar, its table row (module notes)."""
-    from ..report import read_sidecar, sidecar_path
-
     fields, sources = {}, []
     if task.given:
         fields.update(task.given)
@@ -295,8 +294,6 @@ def _task_scene(task: RecordTask, record) -> tuple[Scene, str]:
     """The record's Scene and where it came from: :func:`task_fields`, and for fields they
     leave out, the record's metadata where it states them with units
     (:func:`pipeline.io.scene_from_metadata`)."""
-    from ..io import scene_from_metadata
-
     fields, sources = task_fields(task)
     meta = {k: v for k, (v, _) in scene_from_metadata(record).items() if fields.get(k) is None}
     if meta:
@@ -329,8 +326,6 @@ def _analysis_of(task: RecordTask, **override) -> Analysed:
     """The record's :class:`~pipeline.analysis.Analysis` (its plausibility checks first;
     options overridden by ``override``), as ``pipeline analyse`` and ``reproduce`` run it,
     and its fitted parameters."""
-    from ..report import load_sample
-
     rec = load_sample(task.path)
     scene, source = _task_scene(task, rec)
     a = analyse(rec, scene, **{**task.options, **override})
@@ -386,17 +381,13 @@ def record_numbers(a: Analysis) -> tuple[dict, dict]:
 
 
 def _fit_numbers(record, scene, **options) -> dict:
-    """Fitted contact parameters of one record, where the fitter exists (else none).
+    """Fitted contact parameters of one record.
 
     :func:`pipeline.fit_contact` with its default model and the campaign's bootstrap
     (``n_boot``, ``seed``): ``fit_<name>`` and ``fit_<name>_std`` for the names in
     :data:`FIT_PARAMETERS` it reports, ``fit_redchi``, and ``fit_identifiable_<name>``
     (1 or 0: μ of a contact that sticks throughout has only a lower bound).
     """
-    try:
-        from ..fit import fit_contact
-    except ImportError:
-        return {}
     f = fit_contact(record, scene, **options)
     out = {}
     for name in FIT_PARAMETERS:

@@ -43,6 +43,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._json import json_ready
+from ..contact import NORMAL_LAWS
 from ..errors import InputError, PipelineWarning
 from ..scene import Scene
 from .contact import _e_of_alpha, fit_contact
@@ -314,8 +315,6 @@ def _starts(fits, datas, design, law):
     es = np.array([v.get("e", 1.0) for v in vals])
     init["e"] = float(np.median(es))
     if law != "hertz":
-        from ..contact import NORMAL_LAWS
-
         L = NORMAL_LAWS[law]
         a = []
         for e, d, v in zip(es, datas, vals, strict=True):

@@ -34,7 +34,7 @@ Choices, and why:
 - **Starting values** from the record's moments: e from the normal percussion,
   :math:`e_0 = P_n/(m^* v_0) - 1`; the time scale δ*/v0 (hence E*) from the pulse's RMS
   width against the master curve's; t0 from its centroid less the filter's delay; μ from
-  the upper plateau of Ft/Fn in compression (:func:`pipeline.analysis.estimate_mu`).
+  the upper plateau of Ft/Fn in compression (:func:`pipeline.percussion.estimate_mu`).
 - **Poor fits** (χ²_ν more than five standard deviations above 1, or a runs test on a
   channel's residual signs below z = −2.326 at α = 0.01) are flagged and warned about with
   :class:`~pipeline.errors.PoorFitWarning`, never returned silently.
@@ -50,15 +50,18 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._json import json_ready
+from ..contact import NORMAL_LAWS
 from ..errors import InputError
+from ..percussion import estimate_mu
 from ..scene import Scene
 from ..smooth import runs_test
 from .engine import Design
-from .forward import PARAMS, ForwardModel, RecordData, prepare
+from .forward import PARAMS, ForwardModel, RecordData, Solution, prepare
 from .procedure import run_fit
 from .pulse import E_MIN, normal_pulse
 from .result import FitResult
 from .sensor import CrossTalkWarning, fy_tracks_fn
+from .tangential import tangential_response
 
 __all__ = ["ContactFit", "fit_contact", "DEFAULT_VARY"]
 
@@ -93,8 +96,6 @@ class _Single(Design):
 
 def _e_of_alpha(law, alpha, E, speed, data):
     """Restitution of ``law`` with material constant α at E*, speed (docs/theory.md)."""
-    from ..contact import NORMAL_LAWS
-
     L = NORMAL_LAWS[law]
     K = 4.0 / 3.0 * E * math.sqrt(data.R_eff)
     v0 = speed * data.cos_a
@@ -151,8 +152,6 @@ class ContactFit(FitResult):
         """The fitted contact forces (before the sensor) at instants ``t`` [s]: ``Fn``,
         ``Ft`` [N], and ``Ft_rigid``, Routh's broken line on the fitted normal pulse
         (Ft = μ·Fn until the slip would stop, then 0; docs/theory.md)."""
-        from .tangential import tangential_response
-
         P = self._P()
         sol = self.model.solve([self.data], [P])[0]
         out = self.model.curves(self.data, P, sol, t)
@@ -164,7 +163,6 @@ class ContactFit(FitResult):
             tr = tangential_response(
                 pul, abs(float(d.slip0(P[0, 4]))) / v0, d.lam, P[0, 2], 0.0, tangential="coulomb"
             )
-            from .forward import Solution
 
             rig = self.model.curves(d, P, Solution(pul, tr, np.zeros(1, int)), t)
             out["Ft_rigid"] = rig["Ft"]
@@ -346,9 +344,7 @@ def _start(data: RecordData, model: ForwardModel, speed: float) -> dict:
 
 
 def _mu_start(data, t_peak):
-    """μ from the upper plateau of Ft/Fn before the peak (pipeline.analysis.estimate_mu)."""
-    from ..analysis import estimate_mu
-
+    """μ from the upper plateau of Ft/Fn before the peak (pipeline.percussion.estimate_mu)."""
     m = estimate_mu(data.window, t_peak)
     C = data.sensor.crosstalk
     if C is not None and np.isfinite(m):
@@ -511,8 +507,6 @@ def fit_model(record, scene, model, vary, *, t_begin=None, **options) -> Contact
             fixed[name] = s0[name]
     init = {n: (s0[n] if n in vary else fixed[n]) for n in PARAMS}
     if use_alpha:
-        from ..contact import NORMAL_LAWS
-
         L = NORMAL_LAWS[normal]
         v0 = init["speed"] * data.cos_a
         K = 4.0 / 3.0 * init["E_eff"] * math.sqrt(data.R_eff)

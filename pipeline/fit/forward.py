@@ -26,7 +26,7 @@ the contact duration, on each side), less the window's baseline; saturated sampl
 out; weights 1/σ from each channel's noise measured outside the contact
 (:attr:`pipeline.window.ContactWindow.noise`, floored at the ADC step's q/√12), or, where a
 record has no trigger margins (digitised, simulated), from
-:func:`pipeline.analysis.noise_level`.
+:func:`pipeline.smooth.noise_level`.
 
 **The baseline is fitted with the contact.** The window's baseline (offset and drift of each
 channel, from the samples outside the contact) is an estimate: its error, ~σ/√n_outside,
@@ -54,10 +54,12 @@ import numpy as np
 from ..errors import InputError
 from ..record import channel
 from ..scene import Scene
+from ..simulate import tangential_history
+from ..smooth import noise_level
 from ..window import find_contact
 from .pulse import E_MIN, normal_pulse, shape_of
 from .sensor import SensorSpec, sensor_spec
-from .tangential import HISTORY_RULES, TANGENTIAL_MODELS, tangential_response
+from .tangential import HISTORY_RULES, TANGENTIAL_MODELS, TangentialResponse, tangential_response
 
 __all__ = [
     "PARAMS",
@@ -182,12 +184,10 @@ def _noise(win, name, t, f):
     sigma = float(win.noise.get(name, float("nan")))
     if np.isfinite(sigma):
         return sigma, None
-    from ..analysis import noise_level
-
     if t.size >= 5:
         return float(noise_level(win, None, name)), (
             f"{name}: no trigger margins to measure the noise; σ estimated from the samples "
-            "(second differences or a smoothing spline, pipeline.analysis.noise_level)"
+            "(second differences or a smoothing spline, pipeline.smooth.noise_level)"
         )
     raise InputError(
         f"{name} has only {t.size} samples: too few to estimate its noise; give noise= "
@@ -645,9 +645,6 @@ def _distinct_rows(a):
 def _rk4_response(pulse, uniq, tangential, history):
     """The tangential response by :func:`pipeline.simulate.tangential_history` (RK4 over
     n_steps/2 steps of each pulse, the nodes as its half steps), on the pulse's nodes."""
-    from ..simulate import tangential_history
-    from .tangential import TangentialResponse
-
     th = tangential_history(
         np.sqrt(pulse.x).T,
         pulse.f.T,

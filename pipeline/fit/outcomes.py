@@ -49,8 +49,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .._json import json_ready
 from ..errors import InputError, PoorFitWarning
 from ..scene import Scene
+from ..simulate import impact_outcomes
 
 __all__ = ["OutcomeFit", "fit_outcomes", "OUTCOME_MODELS", "OUTCOME_COLUMNS"]
 
@@ -149,8 +151,6 @@ class OutcomeFit:
 
     def summary(self) -> dict:
         """Strict-JSON summary."""
-        from .._json import json_ready
-
         return json_ready(
             {
                 "model": self.model,
@@ -214,8 +214,6 @@ def _predict(model, values, scene, angle_deg, speed=None):
         pt_m = _walton_pt(theta, v, mu, e, values.get("beta0", 0.0), scene)
         e_n = np.full(theta.shape, e)
     else:
-        from ..simulate import impact_outcomes
-
         sc = scene.replace(angle_deg=np.degrees(theta), speed=v, mu=mu, e=e)
         out = impact_outcomes(sc, normal=_NORMAL, kt_scale=values["kt_scale"], n_steps=_STEPS)
         pt_m = out.Pt_final / m

@@ -40,7 +40,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import InputError, PipelineWarning
+from ..io.metadata import parse_quantity, stated_bandwidth
 from ..record import channel
+from ..sensor_model import butterworth_sos
 
 __all__ = ["SensorSpec", "sensor_spec", "CrossTalkWarning", "fy_tracks_fn"]
 
@@ -116,8 +118,6 @@ class SensorSpec:
 
 @functools.lru_cache(maxsize=64)
 def _sos(order, bandwidth, dt):
-    from ..sensor_model import butterworth_sos
-
     return butterworth_sos(order, bandwidth, dt)
 
 
@@ -204,8 +204,6 @@ def _from_metadata(attrs) -> dict:
     """Sensor fields stated in a record's ``# key: value`` metadata (``meta_*`` attributes),
     units in the value (``5000 N``) or, as older readers kept them, in the key
     (``meta_full_scale_n``)."""
-    from ..io.metadata import parse_quantity, stated_bandwidth
-
     out = {}
     bw = stated_bandwidth(attrs)
     if bw is not None:

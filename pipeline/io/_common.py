@@ -7,7 +7,6 @@ import math
 import numbers
 import os
 import re
-import sys
 import threading
 import warnings
 from pathlib import Path
@@ -15,9 +14,13 @@ from pathlib import Path
 import numpy as np
 
 from .._atomic import atomic_write_text  # noqa: F401  (re-exported)
-from ..errors import InputError, PlaneImpactWarning
+from .._json import read_json  # noqa: F401  (re-exported)
+from ..errors import InputError, PlaneImpactWarning, caller_level
 from ..record import FORCE_CHANNELS
 from ..scene import Scene
+
+#: The readers' folder: their warnings point at the first frame outside it (caller_level).
+IO_DIR = os.path.dirname(os.path.abspath(__file__))
 
 __all__ = [
     "DEFAULT_AXES",
@@ -219,22 +222,8 @@ def check_plane(forces: dict, path) -> None:
             f"{100 * ratio:.1f} % of the normal peak |Fn| = {peak_n:.4g} N (> "
             f"{100 * PLANE_TOLERANCE:.0f} %); the plane-impact assumption is doubtful",
             PlaneImpactWarning,
-            stacklevel=caller_level(),
+            stacklevel=caller_level(IO_DIR),
         )
-
-
-def caller_level(where=None) -> int:
-    """``stacklevel`` that points a warning at the first frame outside ``where`` (a folder,
-    or one module's file; default pipeline.io, whose readers are reached through one to
-    three calls: load → read_sensor → ...). Call it from the function that warns."""
-    where = os.path.dirname(os.path.abspath(__file__)) if where is None else str(where)
-    inside = (
-        (lambda f: f == where) if where.endswith(".py") else (lambda f: os.path.dirname(f) == where)
-    )
-    frame, level = sys._getframe(1), 1  # the frame that calls warnings.warn
-    while frame is not None and inside(frame.f_code.co_filename):
-        frame, level = frame.f_back, level + 1
-    return level
 
 
 def first_non_increase(t) -> tuple[int, str] | None:
@@ -315,64 +304,6 @@ def resolve_axes(columns: dict, axes, p: Path, *, others: dict | None = None, li
             line=line,
         )
     return chosen
-
-
-def read_json(path, *, what: str = "JSON file") -> dict:
-    """A JSON file holding one object, read strictly.
-
-    Parameters
-    ----------
-    path : str or os.PathLike
-    what : str — what the file is, for messages (``"scene file"``, ``"sidecar"``)
-
-    Raises
-    ------
-    InputError
-        Missing file, a directory, unreadable or not UTF-8, malformed JSON (line and
-        column named), nesting too deep, a key given twice, or a value that is not an
-        object.
-    """
-    import json
-
-    p = Path(os.fspath(path))
-    if p.is_dir():
-        raise InputError(f"the {what} is a directory; give the path of a JSON file", path=p)
-    try:
-        raw = p.read_bytes()
-    except FileNotFoundError:
-        raise InputError(f"no such {what}; check the path", path=p) from None
-    except OSError as exc:
-        raise InputError(f"cannot read the {what} ({exc.strerror or exc})", path=p) from exc
-    try:
-        text = raw.decode("utf-8-sig")
-    except UnicodeDecodeError as exc:
-        raise InputError(
-            f"the {what} is not UTF-8 text (bytes at offset {exc.start}); save it as UTF-8",
-            path=p,
-            line=raw[: exc.start].count(b"\n") + 1,
-        ) from None
-
-    def pairs(items):
-        seen = {}
-        for key, value in items:
-            if key in seen:
-                raise InputError(f"key {key!r} appears twice in the {what}; keep one", path=p)
-            seen[key] = value
-        return seen
-
-    try:
-        data = json.loads(text, object_pairs_hook=pairs)
-    except json.JSONDecodeError as exc:
-        raise InputError(
-            f"the {what} is not valid JSON: {exc.msg}", path=p, line=exc.lineno, column=exc.colno
-        ) from None
-    except RecursionError:
-        raise InputError(f"the {what} nests too deeply to be read", path=p) from None
-    if not isinstance(data, dict):
-        raise InputError(
-            f"the {what} must hold a JSON object {{...}}, not a {type(data).__name__}", path=p
-        )
-    return data
 
 
 # ------------------------------------------------------------------ cross-talk decoupling

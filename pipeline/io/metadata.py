@@ -45,8 +45,8 @@ import warnings
 
 import numpy as np
 
-from ..errors import InputError, SampleRateWarning, UnitMismatchError
-from ._common import caller_level
+from ..errors import InputError, SampleRateWarning, UnitMismatchError, caller_level
+from ._common import IO_DIR
 from .units import TIME_UNITS
 
 __all__ = [
@@ -319,7 +319,7 @@ def check_sample_rate(attrs, time, time_unit: str, path) -> None:
         f"{path}: the time column steps by {step:.4g} s (median) but the file states "
         f"'{text}', a step of {expected:.4g} s ({ratio:.3g} times); check the file",
         SampleRateWarning,
-        stacklevel=caller_level(),
+        stacklevel=caller_level(IO_DIR),
     )
 
 

@@ -36,7 +36,10 @@ from collections import deque
 import numpy as np
 
 from ..errors import InputError, MultipleImpactWarning
+from ..window import GLITCH_SAMPLES, default_threshold
 from ._common import file_path
+from ._dispatch import load, sniff_format
+from .sensor import read_sensor
 
 __all__ = ["load_contact", "Cropper", "BLOCK", "DEFAULT_MARGIN", "CHUNK_ROWS"]
 
@@ -65,8 +68,6 @@ class Cropper:
     Damaged = _Damaged
 
     def __init__(self, margin: int = DEFAULT_MARGIN, chunk_rows: int = CHUNK_ROWS):
-        from ..window import GLITCH_SAMPLES, default_threshold
-
         if int(margin) != margin or margin < 100:
             raise InputError(f"margin must be a whole number of rows ≥ 100, got {margin!r}")
         self.margin, self.chunk_rows = int(margin), int(chunk_rows)
@@ -202,9 +203,6 @@ def load_contact(path, *, margin: int = DEFAULT_MARGIN, chunk_rows: int = CHUNK_
     MultipleImpactWarning
         Pulses after the kept segment (their instants in ``crop_later_pulses_s``).
     """
-    from . import load, sniff_format
-    from .sensor import read_sensor
-
     fmt = sniff_format(path)
     if fmt != "sensor_csv" or options.get("channels") is not None:
         return _crop_loaded(load(path, **options), margin)

@@ -93,7 +93,8 @@ Y. C. Chung, J. Y. Ooi, Granular Matter 13:643 (2011), doi:10.1007/s10035-011-02
 from __future__ import annotations
 
 from ._common import HISTORY_RULES, TANGENTIAL_MODELS, default_normal
-from .batch import ImpactOutcomes, TangentialHistory, impact_outcomes, tangential_history
+from .batch import TangentialHistory, tangential_history
+from .outcomes import ImpactOutcomes, impact_outcomes
 from .single import impact
 
 __all__ = [

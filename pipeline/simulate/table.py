@@ -59,6 +59,7 @@ import numpy as np
 from .._atomic import atomic_write_bytes
 from ..errors import InputError
 from ._common import _law, _unique
+from .batch import _batch_group
 
 __all__ = ["OutcomeTable", "outcome_table", "tabulated", "TABLE_VERSION", "TOLERANCE"]
 
@@ -210,8 +211,6 @@ def _read(path, law, param, history, zeta_t, chi):
 
 def _solve(law, param, history, zeta_t, chi, psi):
     """The batch path's outcome at the ψ points, in μ = λ = 1 units (Γ = Π/ψ)."""
-    from .batch import _batch_group
-
     n = psi.size
     return _batch_group(
         _law(law),

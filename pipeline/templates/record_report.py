@@ -35,7 +35,7 @@ import warnings
 import pandas as pd
 from IPython.display import Markdown, display
 
-from pipeline import Scene, analyse, figures
+from pipeline import Scene, analyse, figures, fit_contact
 from pipeline.report import findings, load_sample, scene_from_sidecar
 
 rec = load_sample(record)
@@ -92,20 +92,12 @@ for line in findings(a).text:
 # %% [markdown]
 # ## Contact parameters fitted to the record
 #
-# Where the package's contact fitter is installed, the compliant model fitted to Fn and Ft
-# (values with uncertainties, and the figure of measured against model).
+# The compliant model fitted to Fn and Ft (values with uncertainties, and the figure of
+# measured against model).
 
 # %% tags=["fit"]
-try:
-    from pipeline import fit_contact
-except ImportError:
-    fit_contact = None
-if fit_contact is None:
-    print("no contact fitter in this version of pipeline")
-else:
-    with warnings.catch_warnings(record=True):
-        warnings.simplefilter("always")
-        fit = fit_contact(rec, scene, n_boot=n_boot, seed=seed)
-    print(fit.report())
-    if hasattr(figures, "fig_contact_fit"):
-        display(figures.fig_contact_fit(fit))
+with warnings.catch_warnings(record=True):
+    warnings.simplefilter("always")
+    fit = fit_contact(rec, scene, n_boot=n_boot, seed=seed)
+print(fit.report())
+display(figures.fig_contact_fit(fit))

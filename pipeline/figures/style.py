@@ -1,0 +1,100 @@
+"""The one look of every figure: sizes, colours, rcParams (:func:`style`), a pyplot-free
+:func:`new_figure` and an atomic :func:`save` (see :mod:`pipeline.figures`)."""
+
+from __future__ import annotations
+
+from contextlib import contextmanager
+from pathlib import Path
+
+import matplotlib as mpl
+from matplotlib.figure import Figure
+
+from .._atomic import atomic_path
+
+__all__ = ["STYLE", "SINGLE", "DOUBLE", "COLORS", "style", "new_figure", "save", "panel_label"]
+
+
+#: Figure widths [inch]: one journal column and the full page width.
+SINGLE, DOUBLE = 3.5, 7.2
+
+#: Colours used across figures (colour-blind safe, Okabe–Ito).
+COLORS = {
+    "sliding": "#0072B2",  # blue
+    "sticking": "#D55E00",  # vermillion
+    "measured": "#000000",
+    "fit": "#009E73",  # green
+    "rigid": "#CC79A7",  # purple
+    "construction": "#7F7F7F",  # grey: auxiliary lines C, T, S
+    "accent": "#E69F00",  # orange
+}
+
+#: rcParams applied by :func:`style` (publication look: 8–9 pt text, thin frames).
+STYLE = {
+    "font.family": "serif",
+    "font.serif": ["DejaVu Serif"],
+    "mathtext.fontset": "dejavuserif",
+    "font.size": 9,
+    "axes.labelsize": 9,
+    "axes.titlesize": 9,
+    "legend.fontsize": 8,
+    "legend.frameon": False,
+    "xtick.labelsize": 8,
+    "ytick.labelsize": 8,
+    "xtick.direction": "in",
+    "ytick.direction": "in",
+    "xtick.top": False,
+    "ytick.right": False,
+    "axes.linewidth": 0.8,
+    "lines.linewidth": 1.4,
+    "lines.markersize": 5,
+    "axes.spines.top": False,
+    "axes.spines.right": False,
+    "savefig.dpi": 300,
+    "savefig.bbox": "tight",
+    "savefig.pad_inches": 0.03,
+    "figure.dpi": 150,
+}
+
+
+@contextmanager
+def style():
+    """Context manager applying :data:`STYLE` (restores the caller's rcParams after)."""
+    with mpl.rc_context(STYLE):
+        yield
+
+
+def new_figure(nrows=1, ncols=1, *, width=SINGLE, height=None, **subplots_kw):
+    """A constrained-layout :class:`Figure` and its axes, without pyplot.
+
+    Parameters
+    ----------
+    nrows, ncols : int — grid of axes
+    width : float — figure width [inch]; :data:`SINGLE` or :data:`DOUBLE`
+    height : float, optional — figure height [inch]; default width·0.8/ncols·nrows
+    **subplots_kw — passed to :meth:`Figure.subplots` (``sharey=``, ``gridspec_kw=``...)
+
+    Returns
+    -------
+    (Figure, Axes or ndarray of Axes)
+    """
+    if height is None:
+        height = width * 0.8 * nrows / ncols
+    fig = Figure(figsize=(width, height), layout="constrained")
+    axes = fig.subplots(nrows, ncols, squeeze=True, **subplots_kw)
+    return fig, axes
+
+
+def save(fig: Figure, path, **savefig_kw) -> Path:
+    """Write ``fig`` to ``path`` atomically (temporary file, then rename).
+
+    The format follows the suffix (``.png``, ``.pdf``, ``.svg``). Returns the path.
+    """
+    path = Path(path)
+    with atomic_path(path) as tmp, style():
+        fig.savefig(tmp, format=path.suffix.lstrip(".") or None, **savefig_kw)
+    return path
+
+
+def panel_label(ax, text, *, x=-0.02, y=1.02):
+    """Bold panel tag such as ``(a)`` at the upper left, outside the axes."""
+    ax.text(x, y, text, transform=ax.transAxes, ha="right", va="bottom", fontweight="bold")

@@ -1,0 +1,125 @@
+"""The package's imports point one way: no module imports one that imports it back.
+
+Every stage imports only the stages below it (record → window → smoothing → percussion →
+rigid / contact / simulate → fit → analysis → report → campaigns → CLI), so a reader knows
+what a module may touch and an import inside a function never hides a cycle. The graph is
+read from the source (``ast``), imports inside functions included, and a cycle, direct or
+through a chain, fails with the chain and the lines that close it. The notebook templates
+(``pipeline/templates``) are notebooks, not modules of the package, and are left out.
+"""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+PACKAGE = Path(__file__).resolve().parents[1] / "pipeline"
+
+
+def module_files(root: Path) -> dict[str, tuple[Path, bool]]:
+    """``{dotted name: (file, is_package)}`` of every module under the package ``root``."""
+    out = {}
+    for p in sorted(root.rglob("*.py")):
+        if "templates" in p.relative_to(root).parts:
+            continue
+        parts = list(p.relative_to(root.parent).with_suffix("").parts)
+        is_pkg = parts[-1] == "__init__"
+        if is_pkg:
+            parts.pop()
+        out[".".join(parts)] = (p, is_pkg)
+    return out
+
+
+def import_graph(root: Path) -> dict[str, dict[str, int]]:
+    """``{module: {imported module of the package: line}}`` from the source, function-level
+    imports included; ``from .x import name`` counts as importing ``x.name`` where that is a
+    module, else ``x``."""
+    mods = module_files(root)
+
+    def resolve(name: str) -> str | None:
+        parts = name.split(".")
+        while parts:
+            if ".".join(parts) in mods:
+                return ".".join(parts)
+            parts.pop()
+        return None
+
+    graph = {}
+    for name, (path, is_pkg) in mods.items():
+        package = name if is_pkg else name.rpartition(".")[0]
+        edges = {}
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Import):
+                targets = [a.name for a in node.names]
+            elif isinstance(node, ast.ImportFrom):
+                if node.level:
+                    base = package.split(".")[: len(package.split(".")) - node.level + 1]
+                    mod = ".".join(base + ([node.module] if node.module else []))
+                else:
+                    mod = node.module or ""
+                targets = [
+                    f"{mod}.{a.name}" if f"{mod}.{a.name}" in mods else mod for a in node.names
+                ]
+            else:
+                continue
+            for t in targets:
+                r = resolve(t)
+                if r is not None and r != name:
+                    edges.setdefault(r, node.lineno)
+        graph[name] = edges
+    return graph
+
+
+def find_cycle(graph: dict[str, dict[str, int]]) -> list[str] | None:
+    """One cycle of ``graph`` as a list of modules (first = last), or None."""
+    state: dict[str, int] = {}  # 1 on the current path, 2 done
+    path: list[str] = []
+
+    def visit(v):
+        state[v] = 1
+        path.append(v)
+        for w in sorted(graph.get(v, {})):
+            if state.get(w) == 1:
+                return path[path.index(w) :] + [w]
+            if w not in state:
+                found = visit(w)
+                if found:
+                    return found
+        path.pop()
+        state[v] = 2
+        return None
+
+    for v in sorted(graph):
+        if v not in state:
+            found = visit(v)
+            if found:
+                return found
+    return None
+
+
+def test_the_package_imports_one_way():
+    graph = import_graph(PACKAGE)
+    assert len(graph) > 50, "the graph must cover the package"
+    assert "pipeline.fit.contact" in graph["pipeline.fit"]  # the walker sees the imports
+    cycle = find_cycle(graph)
+    assert cycle is None, "import cycle: " + " → ".join(
+        f"{a} (line {graph[a][b]})" for a, b in zip(cycle, cycle[1:], strict=False)
+    )
+
+
+def test_a_cycle_is_found_however_it_is_hidden(tmp_path):
+    """The check itself: a cycle through a chain of three modules, closed by an import
+    inside a function and a submodule importing its own package, is reported."""
+    pkg = tmp_path / "pkg"
+    (pkg / "sub").mkdir(parents=True)
+    (pkg / "__init__.py").write_text("")
+    (pkg / "a.py").write_text("from . import b\n")
+    (pkg / "b.py").write_text("from .sub import c\n")
+    (pkg / "sub" / "__init__.py").write_text("from .c import f\n")
+    (pkg / "sub" / "c.py").write_text("def f():\n    from ..a import g\n    return g\n")
+    cycle = find_cycle(import_graph(pkg))
+    assert cycle is not None and set(cycle) == {"pkg.a", "pkg.b", "pkg.sub.c"}
+    (pkg / "sub" / "c.py").write_text("def f():\n    from .. import sub\n")
+    assert set(find_cycle(import_graph(pkg))) == {"pkg.sub", "pkg.sub.c"}
+    (pkg / "sub" / "c.py").write_text("import math\n")
+    assert find_cycle(import_graph(pkg)) is None
