@@ -36,7 +36,7 @@ from ._json import json_ready
 from .errors import InputError
 from .fit import select_model
 from .percussion import estimate_mu
-from .plausibility import check_plausible
+from .plausibility import Plausibility, check_outcomes, check_plausible
 from .record import channel
 from .scene import Scene
 from .smooth import noise_level
@@ -166,7 +166,8 @@ class Analysis:
     plausibility : pipeline.plausibility.Plausibility
         The record's contact duration, peak force and impulse against the scene's Hertz
         and momentum estimates (:func:`pipeline.plausibility.check_plausible`), checked
-        before any physics.
+        before any physics, then the measured outcomes against the bounds of a passive
+        impact (:func:`pipeline.plausibility.check_outcomes`).
     """
 
     scene: Scene
@@ -425,6 +426,11 @@ def analyse(
     -----
     ContactTimeWarning, PeakForceWarning, ImpulseWarning
         A record implausible for its scene, but not by a unit factor.
+    NormalRestitutionWarning, TangentialRestitutionWarning, EnergyGainWarning,
+    FrictionBoundWarning, FrictionDirectionWarning
+        A measured outcome that breaks an energy or momentum bound of a passive impact, with
+        its likeliest cause (:func:`pipeline.plausibility.check_outcomes`); the checks are in
+        :attr:`Analysis.plausibility` with the others.
     """
     if not isinstance(scene, Scene):
         raise InputError("analyse needs a pipeline.Scene describing the impact")
@@ -476,6 +482,18 @@ def analyse(
         source=source,
     )
     outcomes = _outcomes(scene, perc, split, source, boot_src)
+    bounds = check_outcomes(
+        scene,
+        perc,
+        outcomes,
+        split,
+        win,
+        source=source,
+        sigma={c: noise_level(win, fits, c) for c in ("Fn", "Ft")},
+        n_baseline=record.sizes["time"] - win.n_samples if win.kind == "sensor" else 0,
+        mu=mu_v if mu_src in ("scene", "given") else None,
+    )
+    plausibility = Plausibility(plausibility.checks + bounds)
     if source == "fit":
         score_fit = score
     else:

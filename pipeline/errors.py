@@ -73,6 +73,12 @@ __all__ += [
     "ContactTimeWarning",
     "PeakForceWarning",
     "ImpulseWarning",
+    "ImpossibleOutcomeWarning",
+    "NormalRestitutionWarning",
+    "TangentialRestitutionWarning",
+    "EnergyGainWarning",
+    "FrictionBoundWarning",
+    "FrictionDirectionWarning",
 ]
 
 
@@ -138,6 +144,32 @@ class PeakForceWarning(PlausibilityWarning):
 
 class ImpulseWarning(PlausibilityWarning):
     """The normal impulse is outside m*·v_n0·[1, 2], the range e ∈ [0, 1] allows."""
+
+
+# After the physics: outcomes a passive impact cannot have (pipeline.plausibility,
+# check_outcomes). Each names the bound it breaks and the likeliest cause.
+class ImpossibleOutcomeWarning(PlausibilityWarning):
+    """A measured outcome breaks an energy or momentum bound of a passive impact."""
+
+
+class NormalRestitutionWarning(ImpossibleOutcomeWarning):
+    """e_n > 1: the ball leaves the surface faster than it came."""
+
+
+class TangentialRestitutionWarning(ImpossibleOutcomeWarning):
+    """e_t > 1 with no spin and a still surface: friction sped the ball up along the slip."""
+
+
+class EnergyGainWarning(ImpossibleOutcomeWarning):
+    """The ball leaves with more kinetic energy (translation and spin) than it came with."""
+
+
+class FrictionBoundWarning(ImpossibleOutcomeWarning):
+    """The tangential percussion exceeds μ·Pn for the scene's (known) μ."""
+
+
+class FrictionDirectionWarning(ImpossibleOutcomeWarning):
+    """At the start of the contact the friction force pushes along the slip."""
 
 
 def caller_level(where) -> int:

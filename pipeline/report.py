@@ -503,13 +503,13 @@ def _report_md(main, a: Analysis, f: Findings, records, analyses, provenance="")
         f"## All {len(records)} records",
         "",
         "| record | regime | area | max distance | Pt drop | compression area | "
-        "restitution area | e (Poisson) | model needed |",
-        "|---|---|---|---|---|---|---|---|---|",
+        "restitution area | e (Poisson) | model needed | checks |",
+        "|---|---|---|---|---|---|---|---|---|---|",
     ]
     for r in records:
         name = r["file"]
         if r["status"] == "failed":
-            lines.append(f"| {name} | failed: {r['error']} |  |  |  |  |  |  |  |")
+            lines.append(f"| {name} | failed: {r['error']} |  |  |  |  |  |  |  |  |")
         elif name in analyses:
             x = analyses[name]
             advice = r.get("advice")
@@ -519,12 +519,12 @@ def _report_md(main, a: Analysis, f: Findings, records, analyses, provenance="")
                 f"{_pm(x.score, 'total', 'Pt_drop')} | "
                 f"{_pm(x.score, 'compression', 'area')} | "
                 f"{_pm(x.score, 'restitution', 'area')} | {x.split.e_poisson:.4f} | "
-                f"{'—' if advice is None else advice['model']} |"
+                f"{'—' if advice is None else advice['model']} | {_checks(x)} |"
             )
         else:
             lines.append(
                 f"| {name} | no scene (ingested only) |  |  |  |  |  | "
-                f"{r['e_poisson_closure']:.4f} (closure) |  |"
+                f"{r['e_poisson_closure']:.4f} (closure) |  |  |"
             )
     lines += [
         "",
@@ -532,11 +532,23 @@ def _report_md(main, a: Analysis, f: Findings, records, analyses, provenance="")
         "stay within 1e-3 of the full Hertz–Mindlin model for the record's scene "
         "(`pipeline.advise`; the reason for each is in `summary.json`, `advice`).",
         "",
+        "*Checks*: the plausibility checks that warned (`pipeline.plausibility`): the record "
+        "against its scene (contact time, peak force, impulse) and the measured outcome "
+        "against the bounds of a passive impact (e_n ≤ 1, e_t ≤ 1, no kinetic energy gained, "
+        "|Pt| ≤ μ·Pn, friction against the slip); each warning, with its likeliest cause, is "
+        "in `summary.json` (`warnings`, `plausibility`).",
+        "",
         "Figures: `fig4_percussion_plane.png` (seed Fig. 4), `fig6_disc_velocity.png` "
         "(analogue of seed Fig. 6), `fig8_forces.png` (seed Fig. 8), "
         "`fig9_percussion_plane.png` (seed Fig. 9). Every number is in `summary.json`.",
     ]
     return "\n".join(lines + _failure_lines(records)) + "\n"
+
+
+def _checks(a: Analysis) -> str:
+    """The plausibility checks that warned for a record, or "ok"."""
+    bad = [c.name for c in a.plausibility.checks if c.status == "warning"]
+    return ", ".join(bad) if bad else "ok"
 
 
 # --------------------------------------------------------------------------- contact fits

@@ -45,8 +45,9 @@ sign-flipped normal channel        the largest pulse is        :class:`SignFlipE
 clipping (ADC saturation)          a flat run at Fn's or Ft's  :class:`ClippedSignalError`
                                    extreme inside the pulse
 two impacts                        a later pulse ≥ 5 % of the  :class:`MultipleImpactWarning`;
-                                   first, or a dip inside the  the window keeps to the first
-                                   pulse to half its humps     (it ends at the dip)
+                                   first or lasting half as    the window keeps to the first
+                                   long, or a dip inside the   (it ends at the dip)
+                                   pulse to half its humps
 trigger glitch                     a spike > 2·k·σ away from   :class:`TriggerGlitchWarning`;
                                    the pulse                   ignored
 =================================  ==========================  ===============================
@@ -68,8 +69,11 @@ window is their time span and nothing is subtracted (a curve whose Fn is mostly 
 is a :class:`SignFlipError`). Simulated records
 (``kind="simulated"``) are noise-free: the window runs from the last sample before the first
 ``Fn > 0`` to the first sample after the last ``Fn > 0`` (the contact lies inside, its ends
-within one sample of the window's), again with nothing subtracted. A record without ``kind``
-is treated as a sensor record.
+within one sample of the window's), again with nothing subtracted. In both, a second pulse
+— Fn back at zero (simulated) or within :data:`DIGITISED_ZERO` of the peak (digitised) for
+at least one sample, then up again for two — is a second impact however soon it comes: a
+:class:`MultipleImpactWarning`, and the window ends where the force first came back. A
+record without ``kind`` is treated as a sensor record.
 
 References
 ----------
@@ -365,7 +369,7 @@ def _finish(record, t_start, t_end, kind, noise, baseline, threshold, peak):
 
 def _passthrough(record):
     t = record["time"].values
-    _, fn = channel(record, "Fn")
+    tf, fn = channel(record, "Fn")
     if -np.min(fn) > max(np.max(fn), 0.0):
         raise SignFlipError(
             f"the digitised Fn is {'all ' if np.max(fn) <= 0 else 'mostly '}negative (from "
@@ -374,17 +378,21 @@ def _passthrough(record):
             "normal force, not another curve)",
             path=record.attrs.get("source"),
         )
+    # a digitised curve's baseline is zero up to the clicks' error: a return below
+    # DIGITISED_ZERO of the peak between two humps separates two impacts
+    end, later = _first_pulse(tf, fn, DIGITISED_ZERO * float(np.max(fn)))
     chans = _channels(record)
-    return _finish(
+    win = _finish(
         record,
         t[0],
-        t[-1],
+        t[-1] if end is None else end,
         "digitised",
         {c: float("nan") for c in chans},
         {c: Baseline() for c in chans},
         float("nan"),
         np.max(fn),
     )
+    return _with_later(win, later, record.attrs.get("source"))
 
 
 def _simulated(record):
@@ -394,10 +402,11 @@ def _simulated(record):
     src = record.attrs.get("source")
     if pos.size == 0:
         raise InputError("simulated record has no sample with Fn > 0: no contact", path=src)
+    end, later = _first_pulse(t, fn, 0.0)
     i0 = max(pos[0] - 1, 0)
-    i1 = min(pos[-1] + 1, t.size - 1)
+    i1 = min(pos[-1] + 1, t.size - 1) if end is None else int(np.searchsorted(t, end))
     chans = _channels(record)
-    return _finish(
+    win = _finish(
         record,
         t[i0],
         t[i1],
@@ -405,8 +414,48 @@ def _simulated(record):
         {c: float("nan") for c in chans},
         {c: Baseline() for c in chans},
         float("nan"),
-        fn.max(),
+        fn[: i1 + 1].max(),
     )
+    return _with_later(win, later, src)
+
+
+#: A digitised Fn at or below this fraction of its peak is at the baseline (the clicks'
+#: error): a dip to it between two humps separates two impacts.
+DIGITISED_ZERO = 0.02
+
+
+def _first_pulse(t, f, level):
+    """Where the first pulse of ``f`` above ``level`` ends, and the later pulses.
+
+    A later pulse is a run of at least two samples above ``level`` after the force has come
+    back to it (at least one sample at or below ``level`` in between), at least
+    :data:`MINOR_PULSE` of the first pulse's peak or lasting at least half as long. Returns
+    ``(t_end, later)``: the instant of the first sample back at the level after the first
+    pulse (None when no later pulse follows) and ``[(t_start, t_end, peak), ...]``.
+    """
+    above = f > level
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], above.astype(np.int8), [0]])))
+    runs = [(int(a), int(b) - 1) for a, b in zip(edges[::2], edges[1::2], strict=True)]
+    if len(runs) < 2:
+        return None, []
+    a0, b0 = runs[0]
+    top, length = float(np.max(f[a0 : b0 + 1])), float(t[b0] - t[a0])
+    later = []
+    for a, b in runs[1:]:
+        peak = float(np.max(f[a : b + 1]))
+        if b > a and (peak >= MINOR_PULSE * top or t[b] - t[a] >= 0.5 * length):
+            later.append((float(t[a]), float(t[b]), peak))
+    if not later:
+        return None, []
+    return float(t[b0 + 1]), later
+
+
+def _with_later(win, later, src):
+    """The window with the later pulses listed, and their MultipleImpactWarning."""
+    if not later:
+        return win
+    _warn_later(src, [(a, p) for a, _, p in later], win.peak)
+    return dataclasses.replace(win, other_pulses=tuple(later))
 
 
 def _fit_line(t, y, mask, t_ref, both_sides):
@@ -551,7 +600,8 @@ def _sensor(record, *, k, false_alarm, guard, max_iter):
 #: trigger glitch lasts one to three.
 GLITCH_SAMPLES = 3
 #: A pulse smaller than this fraction of the largest is not reported as a second impact
-#: (filter ringing, a touch of the sensor); it is still kept out of the baseline fit.
+#: (filter ringing, a touch of the sensor) unless it lasts at least half as long as the
+#: contact (a weak rebound strike); it is still kept out of the baseline fit.
 MINOR_PULSE = 0.05
 #: Inside a pulse, a dip below this fraction of the lower of the two humps around it
 #: (and ≥ k·σ below it) separates two impacts that merged.
@@ -696,7 +746,16 @@ def _choose(runs, r, sigma, kk, src) -> _Found | None:
     top = float(r[biggest.peak])
     major = [run for run in pulses if run.sign > 0 and r[run.peak] >= MINOR_PULSE * top]
     main = major[0]
-    others = [run for run in major[1:]]
+    # later impacts: pulses of note, and any positive pulse lasting half the contact or more
+    # however small (a weak rebound strike lasts longer than the first, t_c ∝ v^(-1/5);
+    # filter ringing lasts a fraction of it)
+    others = [
+        run
+        for run in pulses
+        if run.a > main.b
+        and run.sign > 0
+        and (r[run.peak] >= MINOR_PULSE * top or run.size >= 0.5 * main.size)
+    ]
     a, b, split = main.a, main.b, _dip(r, main, sigma, kk)
     if split is not None:
         rest = _Run(split, main.b, 1, split + int(np.argmax(r[split : main.b + 1])), 0)
@@ -779,14 +838,21 @@ def _check_clipping(record, found, outside, src):
                 )
 
 
+def _warn_later(src, pulses, peak, where=""):
+    """MultipleImpactWarning listing the later pulses ``[(t_start [s], peak [N]), ...]``."""
+    listing = "; ".join(
+        f"t = {a:.6g} s, peak {p:.4g} N ({100 * p / peak:.0f} % of the first)" for a, p in pulses
+    )
+    warnings.warn(
+        f"{src}: {where}{len(pulses)} further pulse(s) after the contact ({listing}): a rebound "
+        "strike or a second impact; the analysis keeps to the first",
+        MultipleImpactWarning,
+        stacklevel=caller_level(__file__),
+    )
+
+
 def _report_events(found, t, r, src):
     if found.others:
-        peak = float(np.max(r[found.a : found.b + 1]))
-        listing = "; ".join(
-            f"t = {float(t[o.a]):.6g} s, peak {float(r[o.peak]):.4g} N "
-            f"({100 * float(r[o.peak]) / peak:.0f} % of the first)"
-            for o in found.others
-        )
         where = (
             f"a second impact begins inside the contact (the force dips to "
             f"{float(r[found.split]):.4g} N at t = {float(t[found.split]):.6g} s and rises "
@@ -794,13 +860,9 @@ def _report_events(found, t, r, src):
             if found.split is not None
             else ""
         )
-        warnings.warn(
-            f"{src}: {where}{len(found.others)} further pulse(s) after the contact "
-            f"({listing}): a rebound strike or a second impact; the analysis keeps to the "
-            "first",
-            MultipleImpactWarning,
-            stacklevel=caller_level(__file__),
-        )
+        peak = float(np.max(r[found.a : found.b + 1]))
+        pulses = [(float(t[o.a]), float(r[o.peak])) for o in found.others]
+        _warn_later(src, pulses, peak, where)
     if found.glitches:
         g = found.glitches
         worst = max(g, key=lambda run: abs(r[run.peak]))

@@ -10,7 +10,11 @@ sidecar or --scene completed from the record's metadata, the contact window, the
 plausibility checks, the analysis.
 
 Before this corpus, nine of these gave a confident wrong answer and nine a raw traceback
-(issue 11).
+(issue 11). The cases after the physics (issue 17) are a tired lab user's: an Ft channel of
+the opposite sign convention (e_t = 1.38 for a ball with no spin on a still surface),
+swapped columns, pounds-force under a newton header, a decimated file whose header keeps
+the old rate, a scene whose μ is too low, a second strike right after the first in a
+simulated or digitised record.
 """
 
 from __future__ import annotations
@@ -27,11 +31,18 @@ from pipeline.cli._common import read_scene
 from pipeline.contact import hertz_impact, hertz_pulse
 from pipeline.errors import (
     ClippedSignalError,
+    EnergyGainWarning,
+    FrictionBoundWarning,
+    FrictionDirectionWarning,
+    ImpossibleOutcomeWarning,
     InputError,
     MultipleImpactWarning,
     NoPulseError,
+    NormalRestitutionWarning,
+    PeakForceWarning,
     SampleRateWarning,
     SignFlipError,
+    TangentialRestitutionWarning,
     TriggerGlitchWarning,
     TruncatedPulseError,
     UnitMismatchError,
@@ -80,6 +91,24 @@ def _scale(col_from, factor):
     def row(r):
         cells = r.split(",")
         cells[col_from:] = [repr(float(c) * factor) for c in cells[col_from:]]
+        return ",".join(cells)
+
+    return row
+
+
+def _scale_column(i, factor):
+    def row(r):
+        cells = r.split(",")
+        cells[i] = repr(float(cells[i]) * factor)
+        return ",".join(cells)
+
+    return row
+
+
+def _swap_columns(i, j):
+    def row(r):
+        cells = r.split(",")
+        cells[i], cells[j] = cells[j], cells[i]
         return ",".join(cells)
 
     return row
@@ -137,10 +166,33 @@ def _hertz_points(sign=1.0):
     return [(x * 1e6, sign * f) for x, f in zip(t, hertz_pulse(t, IMPACT)["F"], strict=True)]
 
 
+def _two_strikes_points(gap):
+    """A digitised elastic pulse, two clicks on the baseline ``gap`` [s] long, then the
+    rebound strike (at 0.2 m/s, 30 % of the first's peak)."""
+    t = np.linspace(0, IMPACT.t_c, 25)
+    first = hertz_pulse(t, IMPACT)["F"]
+    t2 = np.linspace(0, REBOUND.t_c, 25)
+    second = hertz_pulse(t2, REBOUND)["F"]
+    start = IMPACT.t_c + gap
+    pts = [*zip(t, first, strict=True), (IMPACT.t_c + gap / 2, 0.0)]
+    pts += [(start + x, f) for x, f in zip(t2, second, strict=True)]
+    return [(x * 1e6, f) for x, f in pts]
+
+
+def _wpd_datasets(folder, name, fn_points, sidecar):
+    """A WebPlotDigitizer "export all" file: Fn as given, Ft = 0.1·Fn at the same clicks."""
+    p = folder / name
+    rows = [f"{x},{y},{x},{0.1 * y}" for x, y in fn_points]
+    p.write_text("\n".join(["Normal force,,Tangential force,", "X,Y,X,Y", *rows]) + "\n")
+    p.with_suffix(".json").write_text(json.dumps(sidecar))
+    return p
+
+
 WPD_SIDE = {
     "scene": HERTZ_SCENE.to_dict(),
     "load": {"channels": "Fn", "time_unit": "us", "force_unit": "N"},
 }
+WPD_DATASETS_SIDE = {"scene": HERTZ_SCENE.to_dict(), "load": {"time_unit": "us", "force_unit": "N"}}
 
 
 # ------------------------------------------------------------------------------ corpus
@@ -292,6 +344,12 @@ ERRORS = {
         InputError,
         "no such scene file",
     ),
+    # a tired lab user
+    "pounds_force_under_a_newton_header": (
+        lambda d: (_gr_variant(d, "a.csv", row=_scale(1, 1 / 4.4482216152605)), None),
+        UnitMismatchError,
+        "read in 'lbf' (×4.448), not 'N'",
+    ),
 }
 
 #: name → (maker, expected warning, fragment): the analysis goes on, on the trusted part.
@@ -316,10 +374,20 @@ WARNINGS = {
         MultipleImpactWarning,
         "1 further pulse(s) after the contact",
     ),
+    "digitised_rebound_strike_right_after_the_first": (  # 2 µs of baseline between them
+        lambda d: (_wpd_datasets(d, "a.csv", _two_strikes_points(2e-6), WPD_DATASETS_SIDE), None),
+        MultipleImpactWarning,
+        "1 further pulse(s) after the contact (t = 0.000118857 s, peak 375.2 N (33 % of the first))",
+    ),
     "one_glitch_before_the_trigger": (
         lambda d: (_gr_variant(d, "a.csv", rows=lambda b: _glitch(b, 40)), None),
         TriggerGlitchWarning,
         "a trigger glitch or an electrical spike; ignored",
+    ),
+    "decimated_file_keeps_the_old_rate": (  # every 10th row kept, "2e+06 Hz" left in place
+        lambda d: (_gr_variant(d, "a.csv", rows=lambda b: b[::10]), None),
+        SampleRateWarning,
+        "a step of 5e-07 s (10 times)",
     ),
     "stated_sample_rate_off_by_a_third": (
         lambda d: (
@@ -367,6 +435,41 @@ def _glitch(body, i):
     return body[:i] + [",".join(cells)] + body[i + 1 :]
 
 
+#: name → (maker, [(expected warning, fragment), ...], check that says "warning"): the
+#: analysis runs, and the outcome breaks a bound of a passive impact (pipeline.plausibility).
+OUTCOMES = {
+    "tangential_channel_sign_flipped": (  # the issue's record: e_t = 1.38
+        lambda d: (_gr_variant(d, "a.csv", row=_scale_column(1, -1.0)), None),
+        [
+            (TangentialRestitutionWarning, "the Ft channel has the opposite sign convention"),
+            (FrictionDirectionWarning, "friction pushed the ball along its slip"),
+        ],
+        "e_t_bound",
+    ),
+    "normal_and_tangential_columns_swapped": (
+        lambda d: (_gr_variant(d, "a.csv", row=_swap_columns(1, 3)), None),
+        [
+            (PeakForceWarning, "the normal and tangential columns look swapped"),
+            (EnergyGainWarning, "a passive impact cannot give energy"),
+        ],
+        "energy",
+    ),
+    "scene_speed_half_the_real_one": (
+        lambda d: (_side(d, {"scene": {**GR_SIDE["scene"], "speed": 0.3}}), None),
+        [
+            (NormalRestitutionWarning, "a scene mass or speed too small"),
+            (EnergyGainWarning, "a scene speed or mass too small"),
+        ],
+        "e_n_bound",
+    ),
+    "scene_mu_far_too_low": (
+        lambda d: (_side(d, {"scene": {**GR_SIDE["scene"], "mu": 0.05}}), None),
+        [(FrictionBoundWarning, "Likeliest cause: the scene's μ is too low")],
+        "friction_cone",
+    ),
+}
+
+
 @pytest.mark.parametrize("name", sorted(ERRORS))
 def test_bad_input_is_refused_with_its_own_error(tmp_path, name):
     make, kind, fragment = ERRORS[name]
@@ -405,3 +508,31 @@ def test_the_rebound_inside_the_window_no_longer_merges_into_e(tmp_path):
         a = run(path)
     assert a.window.peak == pytest.approx(IMPACT.F_max, rel=0.02)
     assert a.window.duration < IMPACT.t_c
+
+
+@pytest.mark.parametrize("name", sorted(OUTCOMES))
+def test_impossible_outcome_is_named_with_its_cause(tmp_path, name):
+    make, expected, check = OUTCOMES[name]
+    path, scene = make(tmp_path)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        a = run(path, scene)
+    got = {w.category: str(w.message) for w in caught}
+    for kind, fragment in expected:
+        assert kind in got, [f"{w.category.__name__}: {w.message}" for w in caught]
+        assert fragment in got[kind], got[kind]
+    assert a.plausibility[check].status == "warning"
+    assert a.summary()["plausibility"][check]["status"] == "warning"
+
+
+@pytest.mark.parametrize(
+    "sample", sorted(p.name for p in SAMPLES.glob("*.csv") if p.with_suffix(".json").exists())
+)
+def test_good_records_break_no_bound(sample):
+    """The control: the bundled samples, analysed with their own scenes, keep every bound."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        a = run(SAMPLES / sample)
+    assert not [w for w in caught if issubclass(w.category, ImpossibleOutcomeWarning)]
+    status = {c.name: c.status for c in a.plausibility.checks}
+    assert status["e_n_bound"] == status["energy"] == "ok"

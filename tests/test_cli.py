@@ -233,3 +233,27 @@ def test_analyse_names_the_model_the_scene_needs(capsys):
     assert code == 0 and "model needed (tol 0.001): mindlin — sticking" in out
     code, out, _ = _run(capsys, "analyse", MAIN, "--boot", 0, "--json")
     assert code == 0 and json.loads(out)["advice"]["model"] == "mindlin"
+
+
+def test_analyse_names_an_impossible_outcome_and_its_cause(tmp_path, capsys, caplog):
+    """The issue's record: the Ft channel of the opposite sign convention gave e_t = 1.38
+    for a ball with no spin on a still surface, with only the quartic's PoorFitWarning. Now
+    the bound it breaks and the likeliest cause are named, in the log and in the JSON."""
+    lines = MAIN.read_text(encoding="utf-8").splitlines()
+    i = next(k for k, ln in enumerate(lines) if not ln.startswith("#"))
+    rows = []
+    for r in lines[i + 1 :]:
+        cells = r.split(",")
+        cells[1] = repr(-float(cells[1]))  # Fx, the tangential axis
+        rows.append(",".join(cells))
+    p = tmp_path / "flipped.csv"
+    p.write_text("\n".join([*lines[: i + 1], *rows]) + "\n", encoding="utf-8")
+    shutil.copy(MAIN.with_suffix(".json"), p.with_suffix(".json"))
+    code, out, err = _run(capsys, "analyse", p, "--boot", 0)
+    assert code == 0, err
+    logged = caplog.text  # the CLI's log lines (pipeline.cli._common.log_warnings)
+    assert "TangentialRestitutionWarning" in logged and "opposite sign convention" in logged
+    assert "e_t_bound warning" in out
+    code, out, err = _run(capsys, "analyse", p, "--boot", 0, "--json")
+    check = json.loads(out)["plausibility"]["e_t_bound"]
+    assert check["status"] == "warning" and check["measured"] == pytest.approx(1.38, abs=0.01)

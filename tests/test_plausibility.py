@@ -117,3 +117,62 @@ def test_zero_speed_scene_skips_everything_but_says_so():
     checks = check_plausible(load(SAMPLE), Scene(radius=0.0127, density=7850.0, speed=0.0))
     assert [c.status for c in checks.checks] == ["skipped", "skipped", "skipped"]
     assert np.isnan(checks["impulse"].ratio)
+
+
+# ----------------------------------------------------------------------- after the physics
+def _analyse(rec, scene):
+    """``analyse`` without the quartic's PoorFitWarning (it cannot follow a Hertz pulse)."""
+    import warnings
+
+    from pipeline import analyse
+    from pipeline.errors import PoorFitWarning
+
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", category=PoorFitWarning)
+        return analyse(rec, scene, n_boot=0)
+
+
+def _coulomb_sliding():
+    """A noise-free Coulomb impact that slides throughout: 60° > atan(3.5·μ·(1+e))."""
+    from pipeline.simulate import impact
+
+    scene = SCENE.replace(angle_deg=60.0, mu=0.1, e=0.9)
+    return scene, impact(scene, tangential="coulomb")
+
+
+def test_the_energy_ratio_is_routh_s_for_a_sliding_impact():
+    """Routh, sliding throughout (docs/theory.md §3): v_n = e·v_n0, v_t = v_t0 −
+    μ(1+e)·v_n0, ω = μ(1+e)·m·v_n0·R/I; the measured kinetic-energy ratio is that closed
+    form, to the simulator's agreement with the broken line (~1e-3)."""
+    scene, rec = _coulomb_sliding()
+    a = _analyse(rec, scene)
+    m, R, k = float(scene.m), scene.radius, scene.kappa
+    vn0, vt0, mu, e = float(scene.v_n0), float(scene.v_t0), scene.mu, scene.e
+    vt = vt0 - mu * (1 + e) * vn0
+    w = mu * (1 + e) * m * vn0 * R / (k * m * R * R)
+    ratio = (m * (e * vn0) ** 2 + m * vt**2 + k * m * R * R * w**2) / (m * (vn0**2 + vt0**2))
+    energy = a.plausibility["energy"]
+    assert energy.status == "ok" and energy.measured == pytest.approx(ratio, rel=2e-3)
+    cone = a.plausibility["friction_cone"]  # Pt = μ·Pn while it slides
+    assert cone.status == "ok" and cone.measured == pytest.approx(1.0, abs=5e-3)
+
+
+def test_a_mu_below_the_record_s_breaks_the_friction_cone():
+    """The same noise-free record against a scene whose μ is 20 % below the simulated one:
+    Pt reaches 1.25·μ·Pn, beyond the 5 % floor (no cross-talk in a simulated record)."""
+    from pipeline.errors import FrictionBoundWarning
+
+    scene, rec = _coulomb_sliding()
+    with pytest.warns(FrictionBoundWarning, match=r"reaches 1\.2\d·μ·Pn"):
+        a = _analyse(rec, scene.replace(mu=0.08))
+    assert a.plausibility["friction_cone"].status == "warning"
+    assert a.plausibility["e_t_bound"].status == "ok"
+
+
+def test_a_spinning_ball_may_leave_faster_along_the_surface():
+    """e_t > 1 is no mistake for a ball spun against its slip before impact: the bound is
+    skipped and says why."""
+    scene, rec = _coulomb_sliding()
+    a = _analyse(rec, scene.replace(spin=-50.0))
+    assert a.plausibility["e_t_bound"].status == "skipped"
+    assert "spins" in a.plausibility["e_t_bound"].note

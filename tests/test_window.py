@@ -301,6 +301,60 @@ def test_a_second_impact_merged_into_the_first_is_cut_at_the_dip():
     assert w.peak == pytest.approx(IMPACT.F_max, rel=0.01)
 
 
+WEAK = hertz_impact(SCENE.replace(speed=0.015))  # a grazing second touch: 1.5 % of F_max
+
+
+@pytest.mark.parametrize("gap", [0.0, 2e-6, 20e-6, 2e-4])
+def test_a_weak_second_strike_is_seen_however_close(gap):
+    """A second strike of 1.5 % of the first's peak — under the 5 % that filter ringing may
+    reach — still lasts longer than the first contact (t_c ∝ v^(-1/5)), so it is a second
+    impact, at any gap after the force came back to the baseline."""
+    t2 = T0 + IMPACT.t_c + gap
+    rec = sensor_record(extra=lambda t: hertz_pulse(t - t2, WEAK)["F"])
+    with pytest.warns(MultipleImpactWarning, match=r"1 further pulse\(s\)"):
+        w = find_contact(rec)
+    assert w.peak == pytest.approx(IMPACT.F_max, rel=0.01)
+    assert w.duration < IMPACT.t_c + 2 * end_tolerance(SIGMA_N)
+
+
+def _noise_free(kind, t, F):
+    return make_record(
+        t, {"Fn": F, "Ft": 0.1 * F}, attrs={"source": "synthetic", "format": "test", "kind": kind}
+    )
+
+
+@pytest.mark.parametrize("gap", [1e-7, 1e-6, 5e-5])
+def test_a_second_strike_in_a_simulated_record_is_seen(gap):
+    """Noise-free (simulated) records: the first ``Fn > 0`` run is the contact; Fn back to
+    zero for one sample and up again is a second impact however soon (the window used to
+    run to the last Fn > 0 of the record, both strikes in it)."""
+    h = IMPACT.t_c / 1000
+    t = np.arange(-5, 4000) * h
+    t2 = IMPACT.t_c + gap
+    F = hertz_pulse(t, IMPACT)["F"] + hertz_pulse(t - t2, REBOUND)["F"]
+    with pytest.warns(MultipleImpactWarning, match="keeps to the first"):
+        w = find_contact(_noise_free("simulated", t, F))
+    assert abs(w.t_end - IMPACT.t_c) <= 2 * h and w.peak == pytest.approx(IMPACT.F_max, 1e-6)
+    ((a, _, peak),) = w.other_pulses
+    assert abs(a - t2) <= 2 * h and peak == pytest.approx(REBOUND.F_max, rel=1e-3)
+
+
+def test_a_second_strike_in_a_digitised_record_is_seen():
+    """A digitised curve: back within 2 % of the peak (the clicks' error) between two humps
+    is a return to the baseline."""
+    t = np.linspace(0.0, IMPACT.t_c, 25)
+    t2 = np.linspace(0.0, REBOUND.t_c, 25)
+    times = np.concatenate([t, [IMPACT.t_c + 1e-6], IMPACT.t_c + 2e-6 + t2])
+    F = np.concatenate(
+        [hertz_pulse(t, IMPACT)["F"], [0.01 * IMPACT.F_max], hertz_pulse(t2, REBOUND)["F"]]
+    )
+    with pytest.warns(MultipleImpactWarning, match=r"1 further pulse\(s\)"):
+        w = find_contact(_noise_free("digitised", times, F))
+    assert w.t_end == pytest.approx(IMPACT.t_c, abs=1e-12)  # its first point back at 0
+    one = find_contact(_noise_free("digitised", t, hertz_pulse(t, IMPACT)["F"]))
+    assert one.other_pulses == () and one.t_end == pytest.approx(IMPACT.t_c, abs=1e-12)
+
+
 def test_a_clipped_pulse_is_refused():
     """An ADC that saturates at 80 % of the peak: a flat top of ~30 samples at the
     channel's maximum, against a baseline whose noise (σ = 2 N) never repeats a value."""
