@@ -122,7 +122,7 @@ class _Campaign(Design):
         B = theta.shape[0]
         out = []
         for i, d in enumerate(self.datas):
-            P = np.empty((B, 6))
+            P = np.tile(d.nominal(), (B, 1))
             P[:, 0] = theta[:, self._index("E_eff", i)]
             P[:, 4] = theta[:, self.speed[i]]
             P[:, 5] = theta[:, self.t0[i]]

@@ -56,7 +56,7 @@ from ..percussion import estimate_mu
 from ..scene import Scene
 from ..smooth import runs_test
 from .engine import Design
-from .forward import PARAMS, ForwardModel, RecordData, Solution, prepare
+from .forward import PARAMS, ForwardModel, RecordData, Solution, param_scales, prepare
 from .procedure import run_fit
 from .pulse import E_MIN, normal_pulse
 from .result import FitResult
@@ -85,7 +85,7 @@ class _Single(Design):
     def __init__(self, data: RecordData, law: str, use_alpha: bool):
         self.data, self.law, self.use_alpha = data, law, use_alpha
         self.names = tuple("alpha" if (n == "e" and use_alpha) else n for n in PARAMS)
-        self.scale = np.array([1e9, 0.1, 0.01, 0.1, 0.1, data.window.duration])
+        self.scale = param_scales(data)
 
     def local(self, theta):
         P = np.array(theta, dtype=float, copy=True)
@@ -505,7 +505,9 @@ def fit_model(record, scene, model, vary, *, t_begin=None, **options) -> Contact
                 continue
             notes.append(f"{name} is neither in the scene nor fitted: held at its start value")
             fixed[name] = s0[name]
-    init = {n: (s0[n] if n in vary else fixed[n]) for n in PARAMS}
+    nominal = dict(zip(PARAMS, data.nominal(), strict=True))
+    fixed.update({n: nominal[n] for n in PARAMS if n not in fixed})
+    init = {n: (s0.get(n, fixed[n]) if n in vary else fixed[n]) for n in PARAMS}
     if use_alpha:
         L = NORMAL_LAWS[normal]
         v0 = init["speed"] * data.cos_a

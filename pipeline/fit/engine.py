@@ -1,14 +1,19 @@
 r"""The least-squares engine every fit shares: global parameters → records → weighted residuals.
 
 A fit has *global* parameters θ (what lmfit varies: E*, e or α, μ or μ = a + b·v_t0,
-``kt_scale``, t0 ...) and, for each record, the six *local* parameters of its forward model
-(:data:`pipeline.fit.forward.PARAMS`). A :class:`Design` maps one to the other (the identity
-for one record; shared and per-record parameters for a campaign). The residual is
-:math:`r = (y - m(\theta))/\sigma`, all channels of all records concatenated.
+``kt_scale``, t0, the systematics ...) and, for each record, the *local* parameters of its
+forward model (:data:`pipeline.fit.forward.PARAMS`). A :class:`Design` maps one to the other
+(the identity for one record; shared and per-record parameters for a campaign). The
+residual is :math:`r = (y - m(\theta))/\sigma`, all channels of all records concatenated,
+then one row :math:`(\theta_k - \theta_{k,0})/u_k` per parameter known to a standard
+uncertainty :math:`u_k` (a Gaussian constraint: the systematics of
+:func:`pipeline.fit_contact`), so that χ² is −2 ln of the posterior.
 
-Jacobian: by finite differences in the *local* parameters, all perturbed columns of all
-records evaluated in one vectorised call of the forward model (columns that differ only in
-E* or t0 share one tangential solution), then the chain rule through the design,
+Jacobian: the derivatives with respect to the parameters that only scale, stretch, shift
+or mix the pulse (:data:`pipeline.fit.forward.ANALYTIC`) in closed form, the others by
+finite differences in the *local* parameters, all perturbed columns of all records
+evaluated in one vectorised call of the forward model (columns that differ only in the
+analytic parameters share one tangential solution), then the chain rule through the design,
 :math:`\partial r/\partial\theta = \sum_l \partial r/\partial P_l\;\partial P_l/\partial\theta`.
 lmfit's Levenberg–Marquardt (MINPACK ``lmder``) receives it as ``Dfun``, so a fit costs one
 vectorised model call per iteration instead of one per parameter.
@@ -24,15 +29,14 @@ import math
 
 import numpy as np
 
-from .forward import PARAMS, ForwardModel
+from .forward import ANALYTIC, PARAMS, ForwardModel
 
 __all__ = ["Design", "Problem", "gauss_newton_many"]
 
 _P = {name: i for i, name in enumerate(PARAMS)}
+_A = [_P[a] for a in ANALYTIC]
 #: relative finite-difference step of the local parameters
 _REL = 1e-6
-#: local parameters differentiated analytically
-_ANALYTIC = ("E_eff", "t0")
 
 
 class Design:
@@ -59,7 +63,8 @@ class Design:
             th = theta.copy()
             th[:, k] += step
             for o, b, p in zip(out, base, self.local(th), strict=True):
-                o[:, :, j] = (p - b) / step[:, None]
+                # equal entries (an infinite bandwidth among them) do not move
+                o[:, :, j] = np.where(p == b, 0.0, p - b) / step[:, None]
         return out
 
 
@@ -72,14 +77,20 @@ class Problem:
     datas : list of pipeline.fit.forward.RecordData
     design : Design
     vary : sequence of bool — which of ``design.names`` vary
+    priors : dict, optional — {index into ``design.names``: (value, standard uncertainty)}
+        of the parameters known to a tolerance (module notes); their rows follow the data
     """
 
-    def __init__(self, model: ForwardModel, datas, design: Design, vary):
+    def __init__(self, model: ForwardModel, datas, design: Design, vary, priors=None):
         self.model, self.datas, self.design = model, list(datas), design
         self.vary = np.flatnonzero(np.asarray(vary, dtype=bool))
         self.y = np.concatenate([d.y() for d in self.datas])
         self.sizes = [d.n_data for d in self.datas]
         self.n_data = int(self.y.size)
+        priors = dict(priors or {})
+        self.prior_index = np.array(sorted(priors), dtype=int)
+        self.prior_value = np.array([priors[k][0] for k in self.prior_index], dtype=float)
+        self.prior_sigma = np.array([priors[k][1] for k in self.prior_index], dtype=float)
         self.n_calls = 0
         self._last = None
         self.solutions = None  # per record, of the last evaluation's rows (model's type)
@@ -97,12 +108,12 @@ class Problem:
         self.n_calls += 1
         if not jacobian:
             res, self.solutions = self.model.residuals(self.datas, Ps)
-            return np.concatenate(res, axis=1), None
+            return self._with_priors(np.concatenate(res, axis=1), Theta), None
         dP = self.design.dlocal(Theta, self.vary)
         cols, steps, active = [], [], []
         for P, D in zip(Ps, dP, strict=True):
             act = np.flatnonzero(np.any(D != 0, axis=(0, 2)))
-            fd = [l for l in act if PARAMS[l] not in _ANALYTIC]
+            fd = [l for l in act if PARAMS[l] not in ANALYTIC]
             st = np.empty((B, len(fd)))
             blocks = [P]
             for j, l in enumerate(fd):
@@ -124,15 +135,35 @@ class Problem:
         for r, st, (act, fd), D, der in zip(res, steps, active, dP, ders, strict=True):
             n = r.shape[1]
             base = r[:B]
-            Jl = np.zeros((B, 6, n))
+            Jl = np.zeros((B, len(PARAMS), n))
             if fd:
                 pert = r[B:].reshape(len(fd), B, n)
                 Jl[:, fd] = np.moveaxis((pert - base[None]) / st.T[:, :, None], 0, 1)
-            Jl[:, _P["E_eff"]] = der[:, 0]
-            Jl[:, _P["t0"]] = der[:, 1]
+            Jl[:, _A] = der
             r_all.append(base)
             J_all.append(np.einsum("bln,blv->bnv", Jl[:, act], D[:, act, :]))
-        return np.concatenate(r_all, axis=1), np.concatenate(J_all, axis=1)
+        r, J = np.concatenate(r_all, axis=1), np.concatenate(J_all, axis=1)
+        return self._with_priors(r, Theta, J)
+
+    @property
+    def n_rows(self) -> int:
+        """Rows of the residual: the data's, then one per prior."""
+        return self.n_data + self.prior_index.size
+
+    def _with_priors(self, r, Theta, J=None):
+        """The residuals (and Jacobian) with the prior rows (θ_k − θ_k0)/u_k appended."""
+        if not self.prior_index.size:
+            return r if J is None else (r, J)
+        pr = (Theta[:, self.prior_index] - self.prior_value) / self.prior_sigma
+        r = np.concatenate([r, pr], axis=1)
+        if J is None:
+            return r
+        Jp = np.zeros((J.shape[0], self.prior_index.size, J.shape[2]))
+        col = {k: j for j, k in enumerate(self.vary)}
+        for row, k in enumerate(self.prior_index):
+            if k in col:
+                Jp[:, row, col[k]] = 1.0 / self.prior_sigma[row]
+        return r, np.concatenate([J, Jp], axis=1)
 
     def residual(self, theta):
         """Weighted residuals at θ; the Jacobian there is computed with them and kept for

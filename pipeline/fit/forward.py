@@ -50,6 +50,7 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy.signal import sosfilt
 
 from ..errors import InputError
 from ..record import channel
@@ -63,7 +64,10 @@ from .tangential import HISTORY_RULES, TANGENTIAL_MODELS, TangentialResponse, ta
 
 __all__ = [
     "PARAMS",
+    "SYSTEMATIC_PARAMS",
+    "ANALYTIC",
     "UNITS",
+    "param_scales",
     "Channel",
     "RecordData",
     "ForwardModel",
@@ -71,8 +75,35 @@ __all__ = [
     "weighted_residuals",
 ]
 
-#: The local parameters of one record's model, in column order.
-PARAMS = ("E_eff", "e", "mu", "kt_scale", "speed", "t0")
+#: The local parameters of one record's model, in column order: the contact's, then the
+#: inputs a lab knows only to a tolerance (the systematics of :func:`pipeline.fit_contact`;
+#: fixed at their stated values unless the fit varies them).
+PARAMS = (
+    "E_eff",
+    "e",
+    "mu",
+    "kt_scale",
+    "speed",
+    "t0",
+    "mass",
+    "radius",
+    "gain_n",
+    "gain_t",
+    "leak",
+    "time_base",
+    "bandwidth",
+)
+#: The inputs known to a tolerance, among :data:`PARAMS`.
+SYSTEMATIC_PARAMS = (
+    "speed",
+    "mass",
+    "radius",
+    "gain_n",
+    "gain_t",
+    "leak",
+    "time_base",
+    "bandwidth",
+)
 UNITS = {
     "E_eff": "Pa",
     "e": "1",
@@ -83,8 +114,18 @@ UNITS = {
     "kt_scale": "1",
     "speed": "m/s",
     "t0": "s",
+    "mass": "kg",
+    "radius": "m",
+    "gain_n": "1",
+    "gain_t": "1",
+    "leak": "1",
+    "time_base": "1",
+    "bandwidth": "Hz",
 }
 _I = {name: i for i, name in enumerate(PARAMS)}
+#: Local parameters whose derivatives the forward model gives in closed form (they scale,
+#: stretch, shift or mix the pulse: no new tangential solution); the others by differences.
+ANALYTIC = ("E_eff", "t0", "mass", "radius", "gain_n", "gain_t", "leak", "time_base")
 
 
 @dataclass(frozen=True, eq=False)
@@ -125,13 +166,15 @@ class RecordData:
     window : pipeline.window.ContactWindow
     sensor : SensorSpec
     channels : tuple of Channel
-    fine : numpy.ndarray or None — the filter's fine time grid [s] (uniform records with a
-        known bandwidth), sample k of every channel at ``fine[k * oversample]``
+    fine : numpy.ndarray or None — the filter's fine time grid [s] (uniform records), sample
+        k of every channel at ``fine[k * oversample]``
     oversample : int
-    sos : numpy.ndarray or None — the filter discretised on the fine grid
+    sos : numpy.ndarray or None — the stated filter discretised on the fine grid (None
+        without a stated bandwidth)
     notes : tuple of str — what the preparation assumed or left out
     m_eff, R_eff, lam, g_ratio, cos_a, sin_a : float — scene constants: m* [kg], R* [m],
-        m*/m_t, G*/E*, cos and sin of the incidence
+        m*/m_t, G*/E*, cos and sin of the incidence (at the stated mass and radius; the
+        model takes them per column from the ``mass`` and ``radius`` parameters)
     """
 
     record: object
@@ -147,13 +190,10 @@ class RecordData:
     # ------------------------------------------------------------- scene constants
     def __post_init__(self):
         sc = self.scene
-        m2 = float(sc.target_mass)
-        extra = 0.0 if math.isinf(m2) else (1 + 1 / sc.kappa) / m2
         const = {
-            "m_eff": float(sc.m_eff),
-            "R_eff": float(sc.R_eff),
-            # m*/m_t (docs/theory.md; a free second sphere adds its own rotational term)
-            "lam": float(sc.m_eff * ((1 + 1 / sc.kappa) / sc.m + extra)),
+            "m_target": float(sc.target_mass),
+            "R_target": float(sc.target_radius),
+            "kappa": float(sc.kappa),
             "g_ratio": float(sc.G_eff / sc.E_eff),  # G*/E* of the scene's materials
             "cos_a": math.cos(math.radians(float(sc.angle_deg))),
             "sin_a": math.sin(math.radians(float(sc.angle_deg))),
@@ -161,6 +201,42 @@ class RecordData:
         }
         for k, v in const.items():
             object.__setattr__(self, k, v)
+        m, R = float(sc.m), float(sc.radius)
+        for k, v in {
+            "m_eff": self.m_eff_of(m),
+            "R_eff": self.R_eff_of(R),
+            "lam": self.lam_of(m),
+        }.items():
+            object.__setattr__(self, k, float(v))
+
+    def m_eff_of(self, mass):
+        """m* [kg] for a ball of ``mass`` [kg] on this target."""
+        return 1.0 / (1.0 / np.asarray(mass, dtype=float) + 1.0 / self.m_target)
+
+    def R_eff_of(self, radius):
+        """R* [m] for a ball of ``radius`` [m] on this target."""
+        return 1.0 / (1.0 / np.asarray(radius, dtype=float) + 1.0 / self.R_target)
+
+    def lam_of(self, mass):
+        """λ = m*/m_t for a ball of ``mass`` [kg] (docs/theory.md; a free second sphere adds
+        its own rotational term)."""
+        mass = np.asarray(mass, dtype=float)
+        extra = 0.0 if math.isinf(self.m_target) else (1 + 1 / self.kappa) / self.m_target
+        return self.m_eff_of(mass) * ((1 + 1 / self.kappa) / mass + extra)
+
+    def nominal(self) -> np.ndarray:
+        """Every local parameter at its stated value (the scene's and the sensor's; NaN for
+        the contact's own, E*, e, μ, ``kt_scale`` 1, t0, which a fit supplies)."""
+        out = np.full(len(PARAMS), np.nan)
+        sc = self.scene
+        out[_I["kt_scale"]] = 1.0
+        out[_I["speed"]] = float(sc.speed)
+        out[_I["mass"]] = float(sc.m)
+        out[_I["radius"]] = float(sc.radius)
+        out[_I["gain_n"]] = out[_I["gain_t"]] = 1.0
+        out[_I["leak"]] = out[_I["time_base"]] = 0.0
+        out[_I["bandwidth"]] = float(self.sensor.bandwidth)
+        return out
 
     def slip0(self, speed):
         """Initial slip of the contact point [m/s] at impact speed ``speed`` (docs/theory.md)."""
@@ -178,6 +254,29 @@ class RecordData:
     def y(self) -> np.ndarray:
         """The weighted data, channels concatenated (y/σ, each less its fitted baseline)."""
         return np.concatenate([c.project(c.y / c.sigma) for c in self.channels])
+
+
+def param_scales(data: RecordData) -> np.ndarray:
+    """A typical magnitude of each local parameter of ``data`` (:data:`PARAMS` order), for
+    finite-difference steps and convergence tests."""
+    sc = data.scene
+    return np.array(
+        [
+            1e9,  # E_eff [Pa]
+            0.1,  # e
+            0.01,  # mu
+            0.1,  # kt_scale
+            0.1,  # speed [m/s]
+            data.window.duration,  # t0 [s]
+            float(sc.m),  # mass [kg]
+            float(sc.radius),  # radius [m]
+            0.01,  # gain_n
+            0.01,  # gain_t
+            0.001,  # leak
+            1e-5,  # time_base
+            1e4,  # bandwidth [Hz]
+        ]
+    )
 
 
 def _noise(win, name, t, f):
@@ -284,19 +383,18 @@ def prepare(
             basis = np.linalg.qr(A)[0]
         chans.append(Channel(name, tc, yc, sigma, basis))
     fine, sos, os_ = None, None, 1
-    if spec.filtered:
-        t0 = chans[0].t
-        same = all(c.t.size == t0.size and np.array_equal(c.t, t0) for c in chans)
-        dt = np.diff(t0)
-        if same and t0.size > 2 and np.ptp(dt) <= 1e-6 * np.mean(dt):
-            os_ = int(oversample)
-            step = float(np.mean(dt))
-            fine = t0[0] + np.arange((t0.size - 1) * os_ + 1) * (step / os_)
-            sos = spec.sos(step / os_)
-        else:
-            notes.append(
-                "the record is not sampled uniformly on one clock: its filter is not modelled"
-            )
+    t0 = chans[0].t
+    same = all(c.t.size == t0.size and np.array_equal(c.t, t0) for c in chans)
+    dt = np.diff(t0)
+    if same and t0.size > 2 and np.ptp(dt) <= 1e-6 * np.mean(dt):
+        # a uniform record gets the filter's fine grid even without a stated bandwidth:
+        # a fit may then find the bandwidth (pipeline.fit.contact, systematics)
+        os_ = int(oversample)
+        step = float(np.mean(dt))
+        fine = t0[0] + np.arange((t0.size - 1) * os_ + 1) * (step / os_)
+        sos = spec.sos(step / os_) if spec.filtered else None
+    elif spec.filtered:
+        notes.append("the record is not sampled uniformly on one clock: its filter is not modelled")
     return RecordData(
         record=record,
         scene=scene,
@@ -382,18 +480,22 @@ class ForwardModel:
 
     # -------------------------------------------------------------- scales
     def scales(self, data: RecordData, P):
-        """δ* [m], time scale δ*/v0 [s], force scale m*·v0²/δ* [N], v0 [m/s] per column."""
+        """δ* [m], time scale δ*/v0 [s], force scale m*·v0²/δ* [N], v0 [m/s] per column (at
+        each column's E*, speed, mass and radius; the time scale as the record's clock
+        reads it, stretched by 1 + ``time_base``)."""
         E, v = P[:, _I["E_eff"]], P[:, _I["speed"]]
+        m = data.m_eff_of(P[:, _I["mass"]])
         v0 = v * data.cos_a
-        K = 4.0 / 3.0 * E * math.sqrt(data.R_eff)
-        ds = (data.m_eff * v0 * v0 / K) ** 0.4
-        return ds, ds / v0, data.m_eff * v0 * v0 / ds, v0
+        K = 4.0 / 3.0 * E * np.sqrt(data.R_eff_of(P[:, _I["radius"]]))
+        ds = (m * v0 * v0 / K) ** 0.4
+        return ds, ds / v0 * (1.0 + P[:, _I["time_base"]]), m * v0 * v0 / ds, v0
 
     # -------------------------------------------------------------- solve
     def solve(self, datas, Ps) -> list:
         """The dimensionless normal and tangential solutions of every column of every record.
 
-        Columns that differ only in E* and t0 share one solution (module notes).
+        Columns that differ only in the analytic parameters (E*, t0, gains, ...) share one
+        solution (module notes).
         """
         rows = []
         for d, P in zip(datas, Ps, strict=True):
@@ -407,7 +509,7 @@ class ForwardModel:
                         P[:, _I["mu"]],
                         6.0 * d.g_ratio * P[:, _I["kt_scale"]],
                         s0,
-                        np.full(e.size, d.lam),
+                        d.lam_of(P[:, _I["mass"]]) * np.ones(e.size),
                     ]
                 )
             )
@@ -486,45 +588,66 @@ class ForwardModel:
 
     def _forces(self, data, P, sol, t, names, nderiv):
         """Measured-axis forces at instants ``t`` (before the filter), one (C, n) array per
-        name, and for the first ``nderiv`` columns ∂/∂E* and ∂/∂t0 (nderiv, 2, n)."""
+        name, and for the first ``nderiv`` columns their derivatives with respect to the
+        :data:`ANALYTIC` parameters, one (nderiv, len(ANALYTIC), n) array per name."""
         ds, T, Fs, v0 = self.scales(data, P)
         t0 = P[:, _I["t0"]][:, None]
         tau = (t[None, :] - t0) / T[:, None]
         need_t = "Ft" in names or (data.sensor.crosstalk is not None and self.tangential != "none")
         res = self._true_forces(sol, tau, need_t, nderiv)
         fn, ft = res[0] * Fs[:, None], None if res[1] is None else res[1] * Fs[:, None]
-        mixed = self._mix(data.sensor.crosstalk, fn, ft, names)
+        mixed = self._mix(data.sensor.crosstalk, P, fn, ft, names)
         if not nderiv:
             return mixed, None
         b = slice(0, nderiv)
-        E = P[b, _I["E_eff"]][:, None]
+        Pb = P[b]
+        E, mass, radius = (Pb[:, _I[k]][:, None] for k in ("E_eff", "mass", "radius"))
+        mfrac = data.m_eff_of(mass) / mass  # ∂ln m*/∂ln m
+        rfrac = data.R_eff_of(radius) / radius  # ∂ln R*/∂ln R
         Tb, Fb, tb = T[b, None], Fs[b, None], tau[b]
-        parts = []
-        for f, r in ((fn, res[2]), (ft, res[3])):
+        parts = {}
+        for key, f, r in (("n", fn, res[2]), ("t", ft, res[3])):
             if f is None:
-                parts.append((None, None))
+                parts[key] = None
                 continue
             rate = Fb * r  # dF/dτ [N]
-            # F = Fs·f((t − t0)/T), Fs ∝ E*^{2/5}, T ∝ E*^{−2/5} (module notes)
-            parts.append((0.4 * (f[b] + rate * tb) / E, -rate / Tb))
-        dE = self._mix(data.sensor.crosstalk, parts[0][0], parts[1][0], names)
-        dt = self._mix(data.sensor.crosstalk, parts[0][1], parts[1][1], names)
-        return mixed, [np.stack([a, c], axis=1) for a, c in zip(dE, dt, strict=True)]
+            stretch = rate * tb  # the response to stretching the time scale
+            # F = Fs·f((t − t0)/T) with Fs ∝ m*^{3/5} v0^{6/5} K^{2/5} and T ∝ m*^{2/5}
+            # v0^{-1/5} K^{-2/5} (module notes), K ∝ E*·√R*
+            dlnK = 0.4 * (f[b] + stretch)
+            parts[key] = {
+                "E_eff": dlnK / E,
+                "t0": -rate / Tb,
+                "mass": (0.6 * f[b] - 0.4 * stretch) * mfrac / mass,
+                "radius": dlnK * 0.5 * rfrac / radius,
+                "time_base": -stretch / (1.0 + Pb[:, _I["time_base"]][:, None]),
+            }
+        out = []
+        for name in names:
+            cols = []
+            for a in ANALYTIC:
+                if a in ("gain_n", "gain_t", "leak"):
+                    cols.append(self._dmix(data.sensor.crosstalk, Pb, fn[b], ft, name, a))
+                    continue
+                dn, dt = parts["n"][a], None if parts["t"] is None else parts["t"][a]
+                cols.append(self._mix(data.sensor.crosstalk, Pb, dn, dt, [name])[0])
+            out.append(np.stack(cols, axis=1))
+        return mixed, out
 
     def predict(self, data: RecordData, P, sol: Solution, nderiv: int = 0):
         """The model at every fitted sample of ``data``: one (C, n_c) array per channel [N];
-        with ``nderiv`` > 0 also ∂/∂E* [N/Pa] and ∂/∂t0 [N/s] of the first ``nderiv``
-        columns, one (nderiv, 2, n_c) array per channel."""
+        with ``nderiv`` > 0 also the derivatives of the first ``nderiv`` columns with
+        respect to the :data:`ANALYTIC` parameters, one (nderiv, len(ANALYTIC), n_c) array
+        per channel."""
         names = [c.name for c in data.channels]
-        if data.fine is None:
+        bw = P[:, _I["bandwidth"]]
+        if data.fine is None or not np.any(np.isfinite(bw)):
             out, der = [], []
             for ch in data.channels:
                 m, d = self._forces(data, P, sol, ch.t, [ch.name], nderiv)
                 out.append(m[0])
                 der.append(None if d is None else d[0])
             return (out, der) if nderiv else out
-        from scipy.signal import sosfilt
-
         # the forces vanish outside the contact: evaluate from the earliest onset to the
         # latest end of any column, and filter on until the filter's ringing has decayed
         # below 1e-16 (after that the record is the model's exact zero)
@@ -536,41 +659,77 @@ class ForwardModel:
         hi = min(int(np.searchsorted(fine, (t0 + tc).max())) + 1, fine.size)
         lo -= lo % data.oversample  # start on a sample instant
         step = fine[1] - fine[0] if fine.size > 1 else 1.0
-        end = min(fine.size, hi + int(math.ceil(data.sensor.ring_time() / step)) + 1)
+        ring = data.sensor.ring_time(float(np.nanmin(np.where(np.isfinite(bw), bw, np.nan))))
+        end = min(fine.size, hi + int(math.ceil(ring / step)) + 1)
         m, d = self._forces(data, P, sol, fine[lo:hi], names, nderiv)
-        ncol = P.shape[0]
-        rows = [x for x in m]
-        if nderiv:
-            rows += [x.reshape(-1, x.shape[-1]) for x in d]
+        ncol, nch, na = P.shape[0], len(names), len(ANALYTIC)
+        # rows: every channel's columns, then every channel's derivative rows; each row
+        # keeps the bandwidth of its column
+        rows = list(m) + ([x.reshape(-1, x.shape[-1]) for x in d] if nderiv else [])
         stack = np.concatenate(rows, axis=0)
+        row_bw = np.concatenate([bw] * nch + ([np.repeat(bw[:nderiv], na)] * nch if nderiv else []))
         full = np.zeros((stack.shape[0], end - lo))
         full[:, : hi - lo] = stack
-        filt = sosfilt(data.sos, full, axis=-1)[:, :: data.oversample]
+        filt = np.empty((stack.shape[0], full[:, :: data.oversample].shape[1]))
+        for value in np.unique(row_bw):
+            sel = row_bw == value
+            if np.isfinite(value):
+                sos = data.sensor.sos(step, bandwidth=value)
+                filt[sel] = sosfilt(sos, full[sel], axis=-1)[:, :: data.oversample]
+            else:
+                filt[sel] = full[sel][:, :: data.oversample]
         out = np.zeros((filt.shape[0], data.channels[0].t.size))
         k0 = lo // data.oversample
         out[:, k0 : k0 + filt.shape[1]] = filt
-        pred = [out[i * ncol : (i + 1) * ncol] for i in range(len(names))]
+        pred = [out[i * ncol : (i + 1) * ncol] for i in range(nch)]
         if not nderiv:
             return pred
-        base = len(names) * ncol
+        base = nch * ncol
         der = [
-            out[base + i * 2 * nderiv : base + (i + 1) * 2 * nderiv].reshape(nderiv, 2, -1)
-            for i in range(len(names))
+            out[base + i * na * nderiv : base + (i + 1) * na * nderiv].reshape(nderiv, na, -1)
+            for i in range(nch)
         ]
         return pred, der
 
     @staticmethod
-    def _mix(C, fn, ft, names):
+    def _mix(C, P, fn, ft, names):
+        """The sensor's axes: gains, the known cross-talk matrix C (None: none) and the
+        fitted Fn → Ft leak, ``Ft_meas = g_t·(C10·Fn + C11·Ft + leak·Fn)``,
+        ``Fn_meas = g_n·(C00·Fn + C01·Ft)``."""
         ft0 = np.zeros_like(fn) if ft is None else ft
-        if C is None:
-            return [fn if n == "Fn" else ft0 for n in names]
-        row = {"Fn": 0, "Ft": 1}
-        return [C[row[n], 0] * fn + C[row[n], 1] * ft0 for n in names]
+        gn = P[: fn.shape[0], _I["gain_n"]][:, None]
+        gt = P[: fn.shape[0], _I["gain_t"]][:, None]
+        leak = P[: fn.shape[0], _I["leak"]][:, None]
+        out = []
+        for n in names:
+            if n == "Fn":
+                out.append(gn * (fn if C is None else C[0, 0] * fn + C[0, 1] * ft0))
+            else:
+                base = ft0 if C is None else C[1, 0] * fn + C[1, 1] * ft0
+                out.append(gt * (base + leak * fn))
+        return out
+
+    @staticmethod
+    def _dmix(C, P, fn, ft, name, which):
+        """∂(measured ``name``)/∂(``which`` of gain_n, gain_t, leak) for the columns of P."""
+        gt = P[:, _I["gain_t"]][:, None]
+        ft0 = np.zeros_like(fn) if ft is None else ft[: fn.shape[0]]
+        if name == "Fn":
+            if which != "gain_n":
+                return np.zeros_like(fn)
+            return fn if C is None else C[0, 0] * fn + C[0, 1] * ft0
+        if which == "gain_n":
+            return np.zeros_like(fn)
+        if which == "leak":
+            return gt * fn
+        leak = P[:, _I["leak"]][:, None]
+        return (ft0 if C is None else C[1, 0] * fn + C[1, 1] * ft0) + leak * fn
 
     def residuals(self, datas, Ps, nderiv=None):
         """Weighted residuals (y − model)/σ, (C, n_data) per record, and the solutions; with
-        ``nderiv`` (one count per record) also ∂r/∂(E*, t0) of the leading columns,
-        (nderiv, 2, n_data) per record."""
+        ``nderiv`` (one count per record) also the residuals' derivatives with respect to
+        the :data:`ANALYTIC` parameters of the leading columns, (nderiv, len(ANALYTIC),
+        n_data) per record."""
         sols = self.solve(datas, Ps)
         out, ders = [], []
         for i, (d, P, s) in enumerate(zip(datas, Ps, sols, strict=True)):
@@ -586,28 +745,32 @@ class ForwardModel:
     # -------------------------------------------------------------- physics
     def physics(self, data: RecordData, P, sol: Solution) -> dict:
         """What one column's parameters imply: contact duration, peaks, outcomes, regime."""
-        ds, T, Fs, v0 = (float(a[0]) for a in self.scales(data, P[:1]))
+        P1 = P[:1].copy()
+        P1[:, _I["time_base"]] = 0.0  # the contact's own clock
+        ds, T, Fs, v0 = (float(a[0]) for a in self.scales(data, P1))
         k = int(sol.index[0])
         pul = sol.pulse
         sc = data.scene
-        m = float(sc.m)
+        m = float(P[0, _I["mass"]])
+        m_eff = float(data.m_eff_of(m))
+        R = float(P[0, _I["radius"]])
         vt0 = float(data.slip0(P[0, _I["speed"]]) + sc.spin * sc.radius)
         out = {
             "t_c": float(pul.tau_c[k] * T),
             "F_max": float(pul.f[k].max() * Fs),
             "delta_max": float(pul.x[k].max() * ds),
             "e_n": float(-pul.u[k, -1]),
-            "Pn_final": float(pul.pn[k, -1] * data.m_eff * v0),
+            "Pn_final": float(pul.pn[k, -1] * m_eff * v0),
         }
         if sol.tang is not None:
             tg = sol.tang
-            Pt = float(tg.p[k, -1] * data.m_eff * v0)
+            Pt = float(tg.p[k, -1] * m_eff * v0)
             sign = -1.0 if data.slip0(P[0, _I["speed"]]) < 0 else 1.0
             out.update(
                 {
                     "Pt_final": Pt,
-                    "e_t": (sign * vt0 - Pt / data.m_eff) / (sign * vt0) if vt0 else math.nan,
-                    "omega": sign * float(sc.spin) + Pt / (float(sc.kappa) * m * float(sc.radius)),
+                    "e_t": (sign * vt0 - Pt / m_eff) / (sign * vt0) if vt0 else math.nan,
+                    "omega": sign * float(sc.spin) + Pt / (float(sc.kappa) * m * R),
                     "regime": "sticking" if bool(tg.slip_stops[k]) else "sliding",
                     "slide_share": float(tg.slide_share[k]),
                     "Ft_max": float(tg.ft[k].max() * Fs),

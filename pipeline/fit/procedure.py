@@ -59,8 +59,16 @@ def _bounds(name, value, data):
         return (-1.0, 5.0)
     if name == "mu_b":
         return (-math.inf, math.inf)
-    if name == "speed":
+    if name in ("speed", "mass", "radius"):
         return (value / 3.0, value * 3.0)
+    if name in ("gain_n", "gain_t"):
+        return (0.5, 2.0)
+    if name == "leak":
+        return (-0.5, 0.5)
+    if name == "time_base":
+        return (-0.1, 0.1)
+    if name == "bandwidth":
+        return (value / 20.0, value * 20.0)
     if name == "t0":
         dur = data.window.duration
         return (data.channels[0].t[0], data.window.t_start + 0.5 * dur)

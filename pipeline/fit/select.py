@@ -48,7 +48,7 @@ import numpy as np
 from .._json import json_ready
 from ..errors import InputError, PipelineWarning
 from .contact import DEFAULT_VARY, ContactFit, fit_model
-from .forward import _I, ForwardModel, RecordData, weighted_residuals
+from .forward import _I, ANALYTIC, ForwardModel, RecordData, weighted_residuals
 
 __all__ = ["ModelSelection", "select_model", "LADDER", "DEFAULT_CANDIDATES", "RigidModel"]
 
@@ -123,7 +123,11 @@ class RigidModel:
             out.append(w[:, None] * g)
             if nderiv:
                 b = slice(0, nderiv)
-                der.append(np.stack([np.zeros_like(g[b]), -w[b, None] * dg[b]], axis=1))
+                # only t0 moves an impulse's response (the other analytic parameters are
+                # the compliant models'; a rigid fit varies e, μ and t0)
+                d = np.zeros((g[b].shape[0], len(ANALYTIC), g.shape[1]))
+                d[:, ANALYTIC.index("t0")] = -w[b, None] * dg[b]
+                der.append(d)
         return (out, der) if nderiv else out
 
     def residuals(self, datas, Ps, nderiv=None):

@@ -92,17 +92,21 @@ class SensorSpec:
         poles = np.exp(1j * np.pi * (2 * k + n - 1) / (2 * n))
         return float(-np.sum(poles.real) / (2 * np.pi * self.bandwidth))
 
-    def ring_time(self) -> float:
+    def ring_time(self, bandwidth: float | None = None) -> float:
         """Time for the filter's impulse response to decay below 1e-16 of its scale [s]:
-        37 time constants of its slowest pole, ω_c·sin(π/(2n)) (0 without a filter)."""
-        if not self.filtered:
+        37 time constants of its slowest pole, ω_c·sin(π/(2n)) (0 without a filter); at
+        ``bandwidth`` [Hz] instead of the stated one if given."""
+        bw = self.bandwidth if bandwidth is None else bandwidth
+        if not math.isfinite(bw):
             return 0.0
-        slowest = 2 * np.pi * self.bandwidth * math.sin(math.pi / (2 * self.filter_order))
+        slowest = 2 * np.pi * bw * math.sin(math.pi / (2 * self.filter_order))
         return 37.0 / slowest
 
-    def sos(self, dt: float) -> np.ndarray:
-        """Second-order sections of the filter discretised at step ``dt`` [s] (FOH)."""
-        return _sos(self.filter_order, float(self.bandwidth), float(dt)).copy()
+    def sos(self, dt: float, bandwidth: float | None = None) -> np.ndarray:
+        """Second-order sections of the filter discretised at step ``dt`` [s] (FOH), at
+        ``bandwidth`` [Hz] instead of the stated one if given."""
+        bw = self.bandwidth if bandwidth is None else bandwidth
+        return _sos(self.filter_order, float(bw), float(dt)).copy()
 
     def summary(self) -> dict:
         return {
