@@ -10,7 +10,18 @@ from __future__ import annotations
 import os
 import sys
 
-__all__ = ["InputError", "PipelineWarning", "PoorFitWarning", "PlaneImpactWarning", "caller_level"]
+__all__ = [
+    "InputError",
+    "PipelineWarning",
+    "PoorFitWarning",
+    "PlaneImpactWarning",
+    "NormalLawWarning",
+    "SensorFilterWarning",
+    "ImpulseMismatchWarning",
+    "GeometryWarning",
+    "ColouredNoiseWarning",
+    "caller_level",
+]
 
 
 class InputError(ValueError):
@@ -51,6 +62,29 @@ class PoorFitWarning(PipelineWarning):
 
 class PlaneImpactWarning(PipelineWarning):
     """The record casts doubt on the plane-impact assumption (large out-of-plane force)."""
+
+
+# The causes a contact fit's verdict names (pipeline.fit.verdict): the model, the sensor or
+# the scene does not describe the record, each in its own words. Coloured noise is no
+# misfit (the fit models the noise it measures) but is said all the same.
+class NormalLawWarning(PoorFitWarning):
+    """Another normal force law describes the record decisively better."""
+
+
+class SensorFilterWarning(PoorFitWarning):
+    """The record's rise contradicts the sensor's stated filter (cut-off or order)."""
+
+
+class ImpulseMismatchWarning(PoorFitWarning):
+    """The model's percussion does not end where the measured integral of the force does."""
+
+
+class GeometryWarning(PoorFitWarning):
+    """The contact normal turns on a curved target by more than the model allows for."""
+
+
+class ColouredNoiseWarning(PipelineWarning):
+    """The record's noise is correlated (measured before the trigger); the fit whitens it."""
 
 
 # ------------------------------------------------------------ plausibility before physics

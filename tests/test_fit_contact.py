@@ -153,10 +153,11 @@ def test_recovery_on_a_noisy_sensor_record(noisy):
 def test_noise_free_record_is_recovered_to_the_model_error():
     """Noise 1 mN (1e-6 of F_max) and no ADC (filter and cross-talk kept): what is left is
     the forward model's own error against the adaptive simulator and the sensor model. E*,
-    e, μ, kt_scale within 1e-4 (relative), t0 within 1 ns."""
+    e, μ, kt_scale within 1e-4 (relative), t0 within 1 ns (the inputs taken as exact:
+    ``systematics={}``)."""
     sc = gr(angle_deg=15.0, mu=0.13)
     rec = to_sensor(impact(sc, samples=2001), noise=1e-3, bits=None, seed=3)
-    fit = quiet(fit_contact, rec, sc, n_boot=0)
+    fit = quiet(fit_contact, rec, sc, n_boot=0, systematics={})
     v = fit.values
     assert v["E_eff"] == pytest.approx(sc.E_eff, rel=1e-4)
     assert v["e"] == pytest.approx(0.9, abs=1e-4)
@@ -170,13 +171,14 @@ def test_standard_errors_match_the_scatter_of_replicates():
     their standard errors say. The standardised errors (value − truth)/stderr of E*, e and
     μ have a standard deviation within [0.65, 1.45] (its sampling spread for 30 replicates
     is ±13 %: this fails when the errors are off by a factor 1.5) and a mean within
-    ±0.75 (3 standard errors of a mean of 30)."""
+    ±0.75 (3 standard errors of a mean of 30). The inputs are exact here
+    (``systematics={}``): the errors are the data's alone."""
     sc = gr(angle_deg=30.0, speed=0.6, mu=0.16)
     ideal = impact(sc, samples=2001)
     z = {"E_eff": [], "e": [], "mu": []}
     truth = {"E_eff": sc.E_eff, "e": 0.9, "mu": 0.16}
     for seed in range(30):
-        fit = quiet(fit_contact, to_sensor(ideal, seed=1000 + seed), sc, n_boot=0)
+        fit = quiet(fit_contact, to_sensor(ideal, seed=1000 + seed), sc, n_boot=0, systematics={})
         for k in z:
             z[k].append((fit.values[k] - truth[k]) / fit.stderr[k])
     for k, zs in z.items():
@@ -243,18 +245,20 @@ def test_sliding_impact_bounds_kt_scale_only_from_below():
 
 
 def test_cross_talk_biases_mu_and_is_detected():
-    """An Fn → Ft leak of 1 % on μ = 0.13 biases μ by ~8 % when the matrix is not known;
-    the leak into Fy (2 %) gives it away (CrossTalkWarning). With the matrix (as a
-    calibrated rig has it) μ is right again."""
+    """An Fn → Ft leak of 1 % on μ = 0.13 biases μ by ~8 % when the matrix is not known and
+    the inputs are taken as exact; the leak into Fy (2 %) gives it away
+    (CrossTalkWarning). With the matrix (as a calibrated rig has it) μ is right again."""
     C = np.eye(3)
     C[1, 0], C[2, 0] = 0.01, 0.02
     sc = gr(angle_deg=30.0, mu=0.13)
     rec = to_sensor(impact(sc, samples=2001), crosstalk=C, seed=8)
     spec = {"bandwidth": 300e3, "filter_order": 2}
     with pytest.warns(CrossTalkWarning, match="Fy tracks Fn"):
-        blind = fit_contact(rec, sc, n_boot=0, sensor=spec)
+        blind = fit_contact(rec, sc, n_boot=0, sensor=spec, systematics={})
     assert blind.values["mu"] > 0.13 * 1.04
-    told = fit_contact(rec, sc, n_boot=0, sensor={**spec, "crosstalk_matrix": C.ravel().tolist()})
+    told = fit_contact(
+        rec, sc, n_boot=0, sensor={**spec, "crosstalk_matrix": C.ravel().tolist()}, systematics={}
+    )
     assert told.values["mu"] == pytest.approx(0.13, rel=0.01)
 
 
@@ -285,8 +289,8 @@ def test_unmodelled_filter_shows_as_a_late_onset():
     rec = to_sensor(impact(sc, samples=2001), bandwidth=150e3, seed=9)
     delay = math.sqrt(2) / (2 * math.pi * 150e3)
     blind = {"bandwidth": math.inf, "crosstalk_matrix": rec.attrs["sensor_crosstalk_matrix"]}
-    f_blind = fit_contact(rec, sc, n_boot=0, sensor=blind)
-    f_told = fit_contact(rec, sc, n_boot=0)
+    f_blind = fit_contact(rec, sc, n_boot=0, sensor=blind, systematics={})
+    f_told = fit_contact(rec, sc, n_boot=0, systematics={})
     assert f_blind.values["t0"] == pytest.approx(delay, rel=0.05)
     assert abs(f_told.values["t0"]) < 0.05 * delay
     for name in ("E_eff", "e", "mu"):
@@ -352,8 +356,9 @@ def test_bad_input_is_refused(noisy):
 def test_alpha_parametrisation_is_the_same_fit(noisy):
     """Fitting α = c/v0 instead of e is the same model: e(α) equals the e fit."""
     sc, _, rec = noisy
-    fe = fit_contact(rec, sc, n_boot=0)
-    fa = fit_contact(rec, sc, n_boot=0, vary=("E_eff", "alpha", "mu", "kt_scale", "t0"))
+    fe = fit_contact(rec, sc, n_boot=0, systematics={})
+    vary = ("E_eff", "alpha", "mu", "kt_scale", "t0")
+    fa = fit_contact(rec, sc, n_boot=0, vary=vary, systematics={})
     c = contact.cor_hunt_crossley_alpha(fa.values["alpha"], sc.v_n0)
     assert c == pytest.approx(fe.values["e"], abs=1e-6)
     assert fa.chi2 == pytest.approx(fe.chi2, rel=1e-6)

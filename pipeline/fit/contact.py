@@ -61,6 +61,7 @@ from .procedure import run_fit
 from .pulse import E_MIN, normal_pulse
 from .result import FitResult
 from .sensor import CrossTalkWarning, fy_tracks_fn
+from .systematics import resolve
 from .tangential import tangential_response
 
 __all__ = ["ContactFit", "fit_contact", "DEFAULT_VARY"]
@@ -126,6 +127,7 @@ class ContactFit(FitResult):
     data: object = None
     physics: dict = None
     problem: object = None
+    systematics: tuple = ()
 
     @property
     def normal(self) -> str:
@@ -470,6 +472,7 @@ def fit_model(record, scene, model, vary, *, t_begin=None, **options) -> Contact
     seed = int(opts.pop("seed", 0))
     start = dict(opts.pop("start", None) or {})
     window_options = opts.pop("window_options", None)
+    systematics = opts.pop("systematics", None)
     if opts:
         raise InputError(
             f"fit_contact: unknown option(s) {', '.join(sorted(opts))}; see its docstring"
@@ -514,8 +517,16 @@ def fit_model(record, scene, model, vary, *, t_begin=None, **options) -> Contact
         K = 4.0 / 3.0 * init["E_eff"] * math.sqrt(data.R_eff)
         p = float(L.calibrate(s0["e"]))
         init["alpha"] = p / float(L.material_to_param(1.0, K, data.m_eff, v0)) if p else 0.0
+    syst = () if normal is None else resolve(systematics, data, tangential)
+    priors = {}
+    for s in syst:
+        vary = (*vary, s.param) if s.param not in vary else vary
+        init[s.param] = s.value
+        if math.isfinite(s.sigma):
+            priors[s.param] = (s.value, s.sigma)
     init.update(start)
-    kw = run_fit(model, [data], design, init, vary, notes, n_boot=n_boot, seed=seed)
+    kw = run_fit(model, [data], design, init, vary, notes, n_boot=n_boot, seed=seed, priors=priors)
+    kw["systematics"] = syst
     P = design.local(kw["theta"][None, :])[0]
     sol = kw["problem"].solution(kw["theta"])[0]
     kw.update(data=data, physics=model.physics(data, P, sol))

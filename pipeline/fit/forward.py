@@ -58,6 +58,7 @@ from ..scene import Scene
 from ..simulate import tangential_history
 from ..smooth import noise_level
 from ..window import find_contact
+from .noise import WHITE, NoiseModel, measure_noise
 from .pulse import E_MIN, normal_pulse, shape_of
 from .sensor import SensorSpec, sensor_spec
 from .tangential import HISTORY_RULES, TANGENTIAL_MODELS, TangentialResponse, tangential_response
@@ -140,6 +141,9 @@ class Channel:
     sigma : float — noise standard deviation [N] (the weights are 1/σ)
     basis : numpy.ndarray or None — orthonormal basis (n, 2) of {1, t − t̄}: the residual
         baseline fitted with the contact (module notes); None: no baseline fitted
+    n_noise : int — samples σ was measured on (0: not measured, e.g. given)
+    noise : pipeline.fit.noise.NoiseModel — the noise's correlation, measured before the
+        trigger (white where none shows)
     """
 
     name: str
@@ -147,12 +151,33 @@ class Channel:
     y: np.ndarray
     sigma: float
     basis: np.ndarray | None = None
+    n_noise: int = 0
+    noise: NoiseModel = WHITE
+
+    def __post_init__(self):
+        wb = None
+        if self.basis is not None:
+            wb = (
+                self.basis
+                if self.noise.white
+                else np.linalg.qr(self.noise.whiten(self.basis.T).T)[0]
+            )
+        object.__setattr__(self, "_wbasis", wb)
 
     def project(self, r):
         """``r`` (…, n) less its least-squares baseline a + b·(t − t̄)."""
         if self.basis is None:
             return r
         return r - (r @ self.basis) @ self.basis.T
+
+    def rows(self, r):
+        """The fit's residual rows of ``r`` (…, n) = (y − model)/σ: whitened by the
+        channel's noise model (:mod:`pipeline.fit.noise`) and less their fitted baseline
+        (generalised least squares: the baseline basis whitened alike)."""
+        w = self.noise.whiten(r)
+        if self._wbasis is None:
+            return w
+        return w - (w @ self._wbasis) @ self._wbasis.T
 
 
 @dataclass(frozen=True, eq=False)
@@ -252,8 +277,9 @@ class RecordData:
         return sum(0 if c.basis is None else c.basis.shape[1] for c in self.channels)
 
     def y(self) -> np.ndarray:
-        """The weighted data, channels concatenated (y/σ, each less its fitted baseline)."""
-        return np.concatenate([c.project(c.y / c.sigma) for c in self.channels])
+        """The weighted data, channels concatenated (y/σ, whitened, each less its fitted
+        baseline: :meth:`Channel.rows`)."""
+        return np.concatenate([c.rows(c.y / c.sigma) for c in self.channels])
 
 
 def param_scales(data: RecordData) -> np.ndarray:
@@ -277,6 +303,18 @@ def param_scales(data: RecordData) -> np.ndarray:
             1e4,  # bandwidth [Hz]
         ]
     )
+
+
+def _noise_model(record, win, name, t, f) -> NoiseModel:
+    """The channel's noise model from its pre-trigger samples (sensor records; white for
+    the others, and where the record is not uniformly sampled)."""
+    if win.kind != "sensor" or name not in win.baseline:
+        return WHITE
+    dt = np.diff(t)
+    if t.size < 3 or np.ptp(dt) > 1e-6 * np.mean(dt):
+        return WHITE
+    pre = t < win.t_start - 0.1 * win.duration
+    return measure_noise(f[pre] - win.baseline[name](t[pre]))
 
 
 def _noise(win, name, t, f):
@@ -306,6 +344,7 @@ def prepare(
     noise=None,
     window_options=None,
     baseline: bool | None = None,
+    noise_model: bool = True,
 ) -> RecordData:
     """The samples, weights and sensor model a fit of ``record`` uses (module notes).
 
@@ -323,6 +362,8 @@ def prepare(
     baseline : bool, optional — fit each channel's residual offset and drift with the
         contact (module notes); default: for sensor records (whose baseline the window
         estimated from trigger margins)
+    noise_model : bool — measure each channel's noise correlation before the trigger and
+        whiten the fit's residuals by it (:mod:`pipeline.fit.noise`; default True)
 
     Returns
     -------
@@ -370,9 +411,10 @@ def prepare(
                 path=record.attrs.get("source"),
             )
         if noise is not None and name in noise:
-            sigma = float(noise[name])
+            sigma, n_noise = float(noise[name]), 0
         else:
             sigma, note = _noise(win, name, tc, yc)
+            n_noise = record.sizes["time"] - win.n_samples if note is None else tc.size
             if note:
                 notes.append(note)
         floor = max(spec.quantum / math.sqrt(12.0), 1e-9 * float(np.max(np.abs(yc))), 1e-300)
@@ -381,7 +423,8 @@ def prepare(
         if baseline:
             A = np.column_stack([np.ones(tc.size), (tc - tc.mean()) / max(np.ptp(tc), 1e-300)])
             basis = np.linalg.qr(A)[0]
-        chans.append(Channel(name, tc, yc, sigma, basis))
+        model = _noise_model(record, win, name, t, f) if noise_model else WHITE
+        chans.append(Channel(name, tc, yc, sigma, basis, int(max(n_noise, 0)), model))
     fine, sos, os_ = None, None, 1
     t0 = chans[0].t
     same = all(c.t.size == t0.size and np.array_equal(c.t, t0) for c in chans)
@@ -409,13 +452,13 @@ def prepare(
 
 
 def weighted_residuals(data: RecordData, pred, derivative=False):
-    """(y − model)/σ of every channel, concatenated along the last axis, each less its
-    fitted baseline (:meth:`Channel.project`); with ``derivative`` the model's derivatives
-    ``pred`` give those of the residuals, −(∂model)/σ, projected alike."""
+    """(y − model)/σ of every channel as the fit's rows (:meth:`Channel.rows`: whitened,
+    less the fitted baseline), concatenated along the last axis; with ``derivative`` the
+    model's derivatives ``pred`` give those of the residuals, −(∂model)/σ, alike."""
     parts = []
     for c, m in zip(data.channels, pred, strict=True):
         r = -m / c.sigma if derivative else (c.y - m) / c.sigma
-        parts.append(c.project(r))
+        parts.append(c.rows(r))
     return np.concatenate(parts, axis=-1)
 
 

@@ -20,9 +20,10 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy import special
 
 from .._json import json_ready
-from .forward import UNITS
+from .forward import SYSTEMATIC_PARAMS, UNITS
 from .uncertainty import normal_interval, one_sided_bound, percentile_interval
 
 __all__ = ["FitResult"]
@@ -51,6 +52,15 @@ class FitResult:
     notes : tuple of str — what the fit assumed, left out or could not determine
     poor : bool — the residuals show structure the model misses (a PoorFitWarning was given)
     cost_s : float — wall time of the fit [s]
+    cov_stat : numpy.ndarray or None — the data's part of ``cov`` (the rest is the priors')
+    sys_weights : numpy.ndarray or None — (varied, priors): each prior's weight on each
+        varied parameter (:class:`pipeline.fit.uncertainty.CovarianceParts`)
+    priors : dict — {name: (stated value, standard uncertainty)} of the constrained
+        parameters (the systematics), in the order of ``sys_weights``' columns
+    chi2_prior : float — the prior rows' share of ``chi2``
+    misfit : pipeline.fit.procedure.Misfit or None — the misfit test
+    model_spread : dict — {name: σ} spread between the models the data cannot tell apart
+        (the budget's ``model`` term; :func:`pipeline.fit_contact`)
     """
 
     names: tuple
@@ -69,6 +79,12 @@ class FitResult:
     poor: bool = False
     cost_s: float = math.nan
     n_nuisance: int = 0
+    cov_stat: np.ndarray | None = None
+    sys_weights: np.ndarray | None = None
+    priors: dict = field(default_factory=dict)
+    chi2_prior: float = 0.0
+    misfit: object = None
+    model_spread: dict = field(default_factory=dict)
 
     # ------------------------------------------------------------ numbers
     @property
@@ -108,8 +124,11 @@ class FitResult:
 
     @property
     def redchi(self) -> float:
-        """χ²/(N − k − k_baseline): about 1 when the model fits to the measured noise."""
-        return self.chi2 / max(self.n_data - self.nvarys - self.n_nuisance, 1)
+        """χ² of the data over N − k − k_baseline (a parameter with a prior brings its own
+        row and costs no degree of freedom): about 1 when the model fits to the measured
+        noise."""
+        k = self.nvarys - len(self.priors)
+        return (self.chi2 - self.chi2_prior) / max(self.n_data - k - self.n_nuisance, 1)
 
     @property
     def aic(self) -> float:
@@ -121,27 +140,89 @@ class FitResult:
         """χ² + k·ln N (module notes; k counts the fitted baseline too)."""
         return self.chi2 + (self.nvarys + self.n_nuisance) * math.log(max(self.n_data, 1))
 
-    def ci(self, level: float = 0.95, method: str = "auto") -> dict:
+    def _stat_se(self) -> dict:
+        """{varied name: the data's standard error} (the covariance's data part)."""
+        cov = self.cov if self.cov_stat is None else self.cov_stat
+        return {
+            n: math.sqrt(cov[i, i]) if np.isfinite(cov[i, i]) else math.nan
+            for i, n in enumerate(self.vary)
+        }
+
+    @property
+    def budget(self) -> dict:
+        """The uncertainty budget: {parameter: {"stat": σ, "<systematic>": σ, ...,
+        "model": σ, "total": σ}} (standard uncertainties, SI).
+
+        ``stat`` is the data's (the block bootstrap's spread where it ran — its 95 %
+        percentile interval's half width over 1.96 —, else the covariance's); each
+        systematic's is its prior's weight on the parameter (:mod:`pipeline.fit.uncertainty`,
+        :class:`~pipeline.fit.uncertainty.CovarianceParts`); ``model`` the spread between
+        the models the data cannot tell apart (:func:`pipeline.fit_contact`); ``total``
+        adds them in quadrature (GUM §5.1, uncorrelated inputs), so the terms add up by
+        construction. A parameter bounded only from below has NaN throughout.
+        """
+        from .systematics import SYSTEMATICS
+
+        stat = self._stat_se()
+        if self.boot is not None:
+            ci = self.ci(0.95, kind="stat")
+            z = float(special.ndtri(0.975))
+            stat = {n: (ci[n][1] - ci[n][0]) / (2 * z) for n in self.vary}
+        names = list(self.priors)
+        by_name = {n: n for n in names}
+        by_name.update({"leak": "crosstalk"})
+        out = {}
+        for i, n in enumerate(self.vary):
+            if n in SYSTEMATIC_PARAMS:
+                continue  # a systematic itself: its posterior is in stderr
+            row = {"stat": stat[n]}
+            for j, pname in enumerate(names):
+                w = 0.0 if self.sys_weights is None else float(self.sys_weights[i, j])
+                row[by_name.get(pname, pname)] = abs(w)
+            row["model"] = float(self.model_spread.get(n, 0.0))
+            terms = [v for k, v in row.items() if k != "total"]
+            row["total"] = math.sqrt(sum(v * v for v in terms))
+            if n in self.lower_only:
+                row = dict.fromkeys(row, math.nan)
+            order = ["stat", *[s for s in SYSTEMATICS if s in row], "model", "total"]
+            out[n] = {k: row[k] for k in order if k in row}
+        return out
+
+    def ci(self, level: float = 0.95, method: str = "auto", kind: str = "total") -> dict:
         """Confidence intervals {name: (lo, hi)} of the fitted parameters.
 
         Parameters
         ----------
         level : float — confidence level in (0, 1)
         method : {"auto", "bootstrap", "covariance"}
-            ``"bootstrap"``: percentile interval of the block-bootstrap refits;
-            ``"covariance"``: value ± z·stderr; ``"auto"``: the bootstrap where it was run.
-            A parameter bounded only from below gets (profile lower bound, +inf) either way.
+            The data's part: ``"bootstrap"``, the percentile interval of the block-bootstrap
+            refits; ``"covariance"``, value ± z·(its standard error); ``"auto"``, the
+            bootstrap where it was run.
+        kind : {"total", "stat"}
+            ``"total"`` (default) widens the data's interval by the systematics and the
+            model spread of :attr:`budget`, each side in quadrature (a symmetric data
+            interval becomes value ± z·total); ``"stat"``: the data's alone.
+
+        A parameter bounded only from below gets (profile lower bound, +inf) either way.
         """
         if not 0 < level < 1:
             raise ValueError(f"level must lie in (0, 1), got {level!r}")
         if method not in ("auto", "bootstrap", "covariance"):
             raise ValueError(f"method must be 'auto', 'bootstrap' or 'covariance', got {method!r}")
+        if kind not in ("total", "stat"):
+            raise ValueError(f"kind must be 'total' or 'stat', got {kind!r}")
         use_boot = self.boot is not None and method in ("auto", "bootstrap")
         if method == "bootstrap" and self.boot is None:
             raise ValueError("no bootstrap was run (fit with n_boot > 0)")
         se = {n: math.nan for n in self.names}
-        for i, n in enumerate(self.vary):
-            se[n] = math.sqrt(self.cov[i, i]) if np.isfinite(self.cov[i, i]) else math.nan
+        se.update(self._stat_se())
+        extra = {}
+        if kind == "total":
+            budget = self.budget
+            for n, row in budget.items():
+                sys = [v for k, v in row.items() if k not in ("stat", "total")]
+                extra[n] = math.sqrt(sum(v * v for v in sys))
+        z = float(special.ndtri(0.5 + level / 2.0))
         out = {}
         for i, n in enumerate(self.names):
             if not self.varied[i]:
@@ -149,10 +230,16 @@ class FitResult:
             if n in self.lower_only:
                 grid, d = self.profiles[n]
                 out[n] = (one_sided_bound(grid, d, level, max(1.0, self.redchi)), math.inf)
-            elif use_boot:
-                out[n] = percentile_interval(self.boot[:, i], level)
+                continue
+            if use_boot:
+                lo, hi = percentile_interval(self.boot[:, i], level)
             else:
-                out[n] = normal_interval(float(self.theta[i]), se[n], level)
+                lo, hi = normal_interval(float(self.theta[i]), se[n], level)
+            w = z * extra.get(n, 0.0)
+            if w > 0:
+                v = float(self.theta[i])
+                lo, hi = v - math.hypot(v - lo, w), v + math.hypot(hi - v, w)
+            out[n] = (lo, hi)
         return out
 
     # ------------------------------------------------------------ text

@@ -1,0 +1,366 @@
+r"""A fit that knows when its model is wrong, and why: the verdict of :func:`pipeline.fit_contact`.
+
+A misfit test (:func:`pipeline.fit.procedure.misfit`) says *that* the model misses the
+record; a lab needs to know *what* misses it, because each cause has its own remedy. The
+verdict ``{"ok": bool, "causes": [...], "messages": {cause: text}, "misfit": {...}}``
+names the causes from a fixed vocabulary, each also raised as its own warning:
+
+====================  =================================================  =====================
+cause                 found by                                           warning
+====================  =================================================  =====================
+``normal_law``        another force law (one per family of pulse         NormalLawWarning
+                      shapes) fits decisively better: ΔAIC >
+                      :data:`AIC_DECISIVE` (Burnham & Anderson 2002)
+``sensor_filter``     the fitted cut-off lies beyond :data:`PULL_Z`      SensorFilterWarning
+                      standard uncertainties of the stated one; or, the
+                      fit being poor, another filter order fits
+                      decisively better
+``crosstalk``         Fy follows Fn (the axes leak), or the fitted       CrossTalkWarning
+                      Fn → Ft leak lies beyond its stated bound
+``coloured_noise``    the noise before the trigger is correlated         ColouredNoiseWarning
+                      (:mod:`pipeline.fit.noise`): not a misfit — the
+                      fit whitens it — but said
+``impulse_mismatch``  the model's percussion over the contact differs    ImpulseMismatchWarning
+                      from the measured integral of the force by more
+                      than three of its standard deviations and
+                      :data:`IMPULSE_FLOOR` of it: the model trades
+                      impulse for pulse shape
+``geometry``          the contact normal turns on a curved target by     GeometryWarning
+                      more than the fit's tolerance
+                      (:func:`pipeline.advice.geometry_error`)
+``second_impact``     the window saw a later pulse (a rebound strike)    MultipleImpactWarning
+                                                                         (by the window)
+====================  =================================================  =====================
+
+``ok`` is True when the misfit test passes and no cause but ``coloured_noise`` (modelled)
+or a ``crosstalk`` within its allowed bound stands.
+
+**Model spread.** The laws the record cannot tell apart give the budget's ``model`` term
+(:attr:`pipeline.fit.result.FitResult.budget`): with Akaike weights
+:math:`w_k \propto e^{-\Delta_k/2}` over the law fitted and one law of each other family,
+:math:`\sigma_{model}^2 = \sum_k w_k (\hat\theta_k - \hat\theta)^2` — the spread of the
+estimates about the reported one, which widens its interval to the better law's value
+when the data favour that law, and adds little when they clearly favour the law fitted
+(Burnham & Anderson 2002, §4.3.2).
+
+References
+----------
+K. P. Burnham, D. R. Anderson, *Model Selection and Multimodel Inference*, 2nd ed.,
+Springer (2002), doi:10.1007/b97636.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+
+from ..errors import (
+    ColouredNoiseWarning,
+    GeometryWarning,
+    ImpulseMismatchWarning,
+    NormalLawWarning,
+    SensorFilterWarning,
+)
+from .pulse import shape_of
+from .sensor import CrossTalkWarning, fy_tracks_fn
+
+__all__ = [
+    "CAUSES",
+    "AIC_DECISIVE",
+    "PULL_Z",
+    "IMPULSE_FLOOR",
+    "FAMILY_LAWS",
+    "akaike_weights",
+    "model_spread",
+    "diagnose",
+]
+
+CAUSES = (
+    "normal_law",
+    "sensor_filter",
+    "crosstalk",
+    "coloured_noise",
+    "impulse_mismatch",
+    "geometry",
+    "second_impact",
+)
+#: ΔAIC beyond which the better model is decisively better (Burnham & Anderson 2002).
+AIC_DECISIVE = 10.0
+#: A systematic's fitted value this many of its standard uncertainties from the stated one
+#: contradicts the statement.
+PULL_Z = 3.0
+#: The smallest impulse mismatch called one, of the model's own percussion (the master
+#: curve and the sensor model agree to ~1e-8; a lab's mount and cable add well under this).
+IMPULSE_FLOOR = 0.005
+#: One law per family of pulse shapes (pipeline.fit.pulse): the alternatives a fit is
+#: compared with.
+FAMILY_LAWS = ("hunt_crossley", "hertz_dashpot", "viscoelastic")
+#: The causes that mean the model does not describe the record (module notes).
+_FAILURES = ("normal_law", "sensor_filter", "impulse_mismatch", "geometry", "second_impact")
+
+
+def akaike_weights(aics: dict) -> dict:
+    """{key: w} with w ∝ exp(−ΔAIC/2), ΔAIC from the smallest (Burnham & Anderson 2002)."""
+    best = min(aics.values())
+    raw = {k: math.exp(-0.5 * (a - best)) for k, a in aics.items()}
+    total = sum(raw.values())
+    return {k: v / total for k, v in raw.items()}
+
+
+def alternative_laws(normal: str) -> tuple:
+    """The laws a fit of ``normal`` is compared with: one of each other family."""
+    if normal in (None, "hertz"):
+        return ()
+    own = shape_of(normal)
+    return tuple(law for law in FAMILY_LAWS if shape_of(law) != own)
+
+
+def model_spread(fit, alternatives: dict) -> tuple[dict, dict]:
+    """(σ_model per fitted contact parameter, the law table) from the alternative fits
+    (module notes). The table: {law: {"aic", "delta_aic", "weight", "values"}}."""
+    fits = {fit.normal: fit, **alternatives}
+    weights = akaike_weights({k: f.aic for k, f in fits.items()})
+    best = min(f.aic for f in fits.values())
+    spread = {}
+    for name in fit.vary:
+        if name in fit.priors or name in fit.lower_only:
+            continue
+        v0 = fit.values[name]
+        s2 = sum(
+            w * (fits[k].values[name] - v0) ** 2
+            for k, w in weights.items()
+            if name in fits[k].values and np.isfinite(fits[k].values[name])
+        )
+        spread[name] = math.sqrt(s2)
+    table = {
+        k: {
+            "aic": f.aic,
+            "delta_aic": f.aic - best,
+            "weight": weights[k],
+            "values": {n: f.values[n] for n in ("E_eff", "e", "mu", "kt_scale") if n in f.values},
+        }
+        for k, f in fits.items()
+    }
+    return spread, table
+
+
+def diagnose(fit, table=None, *, refit_order=None, geometry=None) -> dict:
+    """The verdict of a contact fit (module notes); each cause found is warned about.
+
+    Parameters
+    ----------
+    fit : pipeline.fit.ContactFit
+    table : dict, optional — the law table of :func:`model_spread`
+    refit_order : callable, optional — ``refit_order(order) -> ContactFit``, the same fit
+        with a Butterworth filter of that order (tried when the fit is poor)
+    geometry : dict, optional — {"e_n": Δ, "e_t": Δ, "tol": τ, "theta": θ} from
+        :func:`pipeline.advice.geometry_error`
+    """
+    src = fit.data.record.attrs.get("source", "the record")
+    causes, messages = [], {}
+
+    def add(cause, text, category=None):
+        causes.append(cause)
+        messages[cause] = text
+        if category is not None:
+            warnings.warn(f"{src}: {text}", category, stacklevel=4)
+
+    # ---- the normal law
+    if table:
+        best = min(table, key=lambda k: table[k]["aic"])
+        if best != fit.normal and table[fit.normal]["delta_aic"] > AIC_DECISIVE:
+            shift = ", ".join(
+                f"{n} {table[best]['values'][n]:.4g}"
+                for n in ("E_eff", "e")
+                if n in table[best]["values"]
+            )
+            add(
+                "normal_law",
+                f"the {best!r} law fits decisively better than {fit.normal!r} (ΔAIC = "
+                f"{table[fit.normal]['delta_aic']:.1f}; it gives {shift}); the intervals "
+                "include the spread between the laws (budget 'model'): fit that law, or let "
+                "select_model choose",
+                NormalLawWarning,
+            )
+    # ---- the sensor's filter
+    bw = _pull(fit, "bandwidth")
+    if bw is not None and abs(bw[0]) > PULL_Z:
+        add(
+            "sensor_filter",
+            f"the pulse's rise says the sensor's cut-off is {bw[1]:.4g} Hz, {bw[0]:+.1f} standard "
+            f"uncertainties from the stated {bw[2]:.4g} Hz: check the amplifier's filter setting",
+            SensorFilterWarning,
+        )
+    elif refit_order is not None and fit.misfit is not None and not fit.misfit.ok:
+        order = fit.data.sensor.filter_order
+        tried = {k: refit_order(k) for k in (1, 2, 3, 4) if k != order}
+        tried = {k: f for k, f in tried.items() if f is not None}
+        if tried:
+            k, f = min(tried.items(), key=lambda kv: kv[1].aic)
+            if fit.aic - f.aic > AIC_DECISIVE:
+                add(
+                    "sensor_filter",
+                    f"a Butterworth filter of order {k} fits decisively better than the stated "
+                    f"order {order} (ΔAIC = {fit.aic - f.aic:.1f}; E* {f.values['E_eff']:.4g} Pa "
+                    f"against {fit.values['E_eff']:.4g}): check the amplifier's filter",
+                    SensorFilterWarning,
+                )
+    # ---- cross-talk
+    leak = _pull(fit, "leak")
+    fy = None
+    if fit.tangential != "none" and fit.data.sensor.crosstalk is None:
+        fy = fy_tracks_fn(fit.data, fit.predicted()[0])
+    if leak is not None and abs(leak[0]) > PULL_Z:
+        add(
+            "crosstalk",
+            f"the stick phases put the Fn → Ft leak at {leak[1]:+.2%} of Fn, {leak[0]:+.1f} "
+            f"standard uncertainties beyond the allowed ±{fit.priors['leak'][1]:.2%}: give the "
+            "sensor's cross-talk matrix (sensor={'crosstalk_matrix': ...}) or load the record "
+            "decoupled",
+            CrossTalkWarning,
+        )
+    elif fy is not None:
+        add("crosstalk", _crosstalk_text(fit, fy), CrossTalkWarning)
+    # ---- coloured noise (modelled)
+    coloured = {c.name: c.noise for c in fit.data.channels if not c.noise.white}
+    if coloured:
+        text = "; ".join(
+            f"{n}: AR({m.phi.size}), lag-1 autocorrelation {m.lag1:.2f}"
+            for n, m in coloured.items()
+        )
+        add(
+            "coloured_noise",
+            f"the noise before the trigger is correlated ({text}): the fit whitens the "
+            "residuals by it (generalised least squares), so its χ², intervals and misfit test "
+            "hold; the residuals' structure from it is no model failure",
+            ColouredNoiseWarning,
+        )
+    # ---- the impulse
+    mismatch = impulse_mismatch(fit)
+    bad = {k: v for k, v in mismatch.items() if v["mismatch"]}
+    if bad:
+        text = "; ".join(
+            f"the model's {k} over the contact is {v['model_Ns']:.5g} N s against the "
+            f"measured {v['measured_Ns']:.5g} ± {v['sigma_Ns']:.2g} N s ({v['relative']:+.2%})"
+            for k, v in bad.items()
+        )
+        add(
+            "impulse_mismatch",
+            text + ": the model trades impulse for pulse shape — another normal law, a "
+            "baseline that drifts under the pulse or a wrong scene",
+            ImpulseMismatchWarning,
+        )
+    # ---- geometry
+    if geometry is not None and max(
+        geometry.get("e_n", 0.0), geometry.get("e_t", 0.0)
+    ) > geometry.get("tol", math.inf):
+        add(
+            "geometry",
+            f"the contact normal turns by {geometry.get('theta', math.nan):.3g} rad while the "
+            f"ball slides over the curved target; ignoring it moves e_n by "
+            f"{geometry['e_n']:.2g} and e_t by {geometry['e_t']:.2g}, beyond the "
+            f"{geometry['tol']:.2g} the fit allows",
+            GeometryWarning,
+        )
+    # ---- a second impact (the window has warned)
+    others = getattr(fit.data.window, "other_pulses", ())
+    if others:
+        add(
+            "second_impact",
+            f"{len(others)} later pulse(s) after the contact (a rebound strike); the fit keeps "
+            "to the first",
+        )
+    failing = [c for c in causes if c in _FAILURES]
+    if leak is not None and abs(leak[0]) > PULL_Z:
+        failing.append("crosstalk")
+    ok = (fit.misfit is None or fit.misfit.ok) and not failing
+    misfit = {}
+    if fit.misfit is not None:
+        misfit = {
+            "redchi": fit.misfit.redchi,
+            "chi2_z": fit.misfit.chi2_z,
+            "runs_z": dict(fit.misfit.runs_z),
+            "reasons": list(fit.misfit.reasons),
+        }
+    return {
+        "ok": bool(ok),
+        "causes": causes,
+        "messages": messages,
+        "misfit": misfit,
+        "impulse": mismatch,
+    }
+
+
+def _pull(fit, name):
+    """(pull, fitted, stated) of a constrained parameter: (θ − θ₀)/u, or None."""
+    if name not in fit.priors:
+        return None
+    stated, u = fit.priors[name]
+    value = float(fit.theta[fit.names.index(name)])
+    return (value - stated) / u, value, stated
+
+
+def _crosstalk_text(fit, k) -> str:
+    leak = fit.priors.get("leak")
+    if leak is None:
+        return (
+            f"Fy tracks Fn (Fy ≈ {k:+.2%} of Fn): the sensor's axes leak into each other, "
+            "and a leak of Fn into Ft of that size biases μ by about the leak over μ (and e_t "
+            "with it). Give the sensor's cross-talk matrix (sensor={'crosstalk_matrix': ...}) "
+            "or load the record decoupled"
+        )
+    i = fit.vary.index("leak")
+    post = math.sqrt(fit.cov[i, i]) if np.isfinite(fit.cov[i, i]) else math.inf
+    if post < 0.5 * leak[1]:
+        how = (
+            f"the stick phases separate it from μ: the fitted leak is "
+            f"{fit.values['leak']:+.2%} ± {post:.2%} of Fn"
+        )
+    else:
+        how = (
+            "the contact slides too much for the record to separate it from μ: the leak's "
+            f"bound (±{leak[1]:.2%}) is carried into μ's interval"
+        )
+    return (
+        f"Fy tracks Fn (Fy ≈ {k:+.2%} of Fn): the sensor's axes leak into each other; {how}. "
+        "Give the sensor's cross-talk matrix to narrow it"
+    )
+
+
+def impulse_mismatch(fit) -> dict:
+    """The model's percussion over the contact against the measured integral of the force,
+    per channel: {"Pn"/"Pt": {"model_Ns", "measured_Ns", "sigma_Ns", "relative",
+    "mismatch"}} (module notes). The span runs from the fitted onset to the contact's end
+    plus the filter's ring; the measured integral is taken less the fit's own baseline; σ
+    is the noise's (at its long-run variance where it is coloured) over the span and the
+    baseline's error carried over it."""
+    data = fit.data
+    P = fit._P()
+    sol = fit.model.solve([data], [P])[0]
+    preds = fit.model.predict(data, P, sol)
+    t0 = float(P[0, 5])
+    t_end = t0 + float(fit.physics["t_c"]) + data.sensor.ring_time()
+    out = {}
+    for c, m, key in zip(data.channels, preds, ("Pn", "Pt"), strict=False):
+        m = m[0]
+        span = (c.t >= t0) & (c.t <= t_end)
+        n_span = int(span.sum())
+        if n_span < 3:
+            continue
+        dt = float(np.median(np.diff(c.t)))
+        model = float(np.sum(m[span]) * dt)
+        diff = float(np.sum(c.project(c.y - m)[span]) * dt)
+        nm = c.noise
+        lr = 1.0 if nm.white else nm.innovation / abs(1.0 - float(np.sum(nm.phi)))
+        s = c.sigma * lr * dt * math.sqrt(n_span * (1.0 + n_span / max(c.t.size, 1)))
+        rel = diff / model if model else math.nan
+        out[key] = {
+            "model_Ns": model,
+            "measured_Ns": model + diff,
+            "sigma_Ns": s,
+            "relative": rel,
+            "mismatch": bool(abs(diff) > 3.0 * s and abs(rel) > IMPULSE_FLOOR),
+        }
+    return out
