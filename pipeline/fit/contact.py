@@ -42,16 +42,17 @@ Choices, and why:
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from .._json import json_ready
 from ..contact import NORMAL_LAWS
-from ..errors import InputError
+from ..errors import InputError, PipelineWarning
 from ..percussion import estimate_mu
 from ..scene import Scene
 from ..smooth import runs_test
@@ -60,9 +61,9 @@ from .forward import PARAMS, ForwardModel, RecordData, Solution, param_scales, p
 from .procedure import run_fit
 from .pulse import E_MIN, normal_pulse
 from .result import FitResult
-from .sensor import CrossTalkWarning, fy_tracks_fn
 from .systematics import resolve
 from .tangential import tangential_response
+from .verdict import alternative_laws, diagnose, model_spread
 
 __all__ = ["ContactFit", "fit_contact", "DEFAULT_VARY"]
 
@@ -128,6 +129,8 @@ class ContactFit(FitResult):
     physics: dict = None
     problem: object = None
     systematics: tuple = ()
+    verdict: dict = None
+    alternatives: dict = field(default_factory=dict)
 
     @property
     def normal(self) -> str:
@@ -364,6 +367,7 @@ def fit_contact(
     normal: str = "hunt_crossley",
     tangential: str = "mindlin",
     vary=None,
+    systematics=None,
     **options,
 ) -> ContactFit:
     """Fit the contact parameters of one force record (module notes).
@@ -454,7 +458,12 @@ def fit_contact(
         raise InputError(f"kt_scale is a Mindlin parameter; tangential={tangential!r} has none")
     if tangential == "none" and "mu" in vary:
         raise InputError("tangential='none' is frictionless: mu cannot be fitted")
-    return fit_model(record, scene, model, vary, t_begin=t_begin, **opts)
+    check = bool(opts.pop("diagnose", True))
+    opts["systematics"] = systematics
+    fit = fit_model(record, scene, model, vary, t_begin=t_begin, **opts)
+    if not check:
+        return fit
+    return _diagnosed(fit, record, scene, vary, opts, t_begin)
 
 
 def fit_model(record, scene, model, vary, *, t_begin=None, **options) -> ContactFit:
@@ -530,15 +539,44 @@ def fit_model(record, scene, model, vary, *, t_begin=None, **options) -> Contact
     P = design.local(kw["theta"][None, :])[0]
     sol = kw["problem"].solution(kw["theta"])[0]
     kw.update(data=data, physics=model.physics(data, P, sol))
-    leak = fy_tracks_fn(data, model.predict(data, P, sol)[0][0])
-    if leak is not None:
-        msg = (
-            f"Fy tracks Fn (Fy ≈ {leak:+.2%} of Fn): the sensor's axes leak into each other, "
-            "and a leak of Fn into Ft of that size biases μ by about the leak over μ (and e_t "
-            "with it). Give the sensor's cross-talk matrix (sensor={'crosstalk_matrix': ...}) "
-            "or load the record decoupled"
-        )
-        kw["notes"] = kw["notes"] + (msg,)
-        warnings.warn(msg, CrossTalkWarning, stacklevel=3)
     kw["cost_s"] = time.perf_counter() - t_begin
     return ContactFit(**kw)
+
+
+def _diagnosed(fit, record, scene, vary, options, t_begin) -> ContactFit:
+    """``fit`` with its model spread and verdict (pipeline.fit.verdict): the other laws'
+    fits, and the filter orders' where the fit is poor."""
+    quiet = {k: v for k, v in options.items() if k not in ("n_boot", "seed")}
+    m = fit.model
+
+    def refit(model, **extra):
+        alt_vary = tuple("e" if v == "alpha" and model.normal != m.normal else v for v in vary)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", PipelineWarning)
+            try:
+                return fit_model(record, scene, model, alt_vary, n_boot=0, **{**quiet, **extra})
+            except InputError:
+                return None
+
+    laws = alternative_laws(m.normal)
+    exact = {m.normal: refit(m, systematics={})} if laws else {}
+    for law in laws:
+        exact[law] = refit(ForwardModel(law, m.tangential, m.history, m.n_steps), systematics={})
+    exact = {k: f for k, f in exact.items() if f is not None}
+    spread, table = model_spread(fit, exact) if m.normal in exact else ({}, {})
+    spec = fit.data.sensor
+
+    def refit_order(order):
+        if not spec.filtered:
+            return None
+        return refit(m, sensor=dataclasses.replace(spec, filter_order=order, notes=()))
+
+    def refit_law(law):
+        return refit(ForwardModel(law, m.tangential, m.history, m.n_steps))
+
+    fit = dataclasses.replace(fit, model_spread=spread, alternatives=table)
+    verdict = diagnose(fit, table, refit_order=refit_order, refit_law=refit_law)
+    notes = fit.notes + tuple(verdict["messages"].values())
+    return dataclasses.replace(
+        fit, verdict=verdict, notes=notes, cost_s=time.perf_counter() - t_begin
+    )

@@ -117,17 +117,22 @@ def alternative_laws(normal: str) -> tuple:
     return tuple(law for law in FAMILY_LAWS if shape_of(law) != own)
 
 
-def model_spread(fit, alternatives: dict) -> tuple[dict, dict]:
-    """(σ_model per fitted contact parameter, the law table) from the alternative fits
-    (module notes). The table: {law: {"aic", "delta_aic", "weight", "values"}}."""
-    fits = {fit.normal: fit, **alternatives}
+def model_spread(fit, fits: dict) -> tuple[dict, dict]:
+    """(σ_model per fitted contact parameter of ``fit``, the law table) from ``fits``, the
+    same record fitted by each law (the fit's own law among them; module notes). The
+    table: {law: {"aic", "delta_aic", "weight", "values"}}.
+
+    The laws are compared with the inputs taken as exact (``systematics={}``): the
+    systematics move every law's estimates alike, and a wrong law's fit would otherwise
+    spend them on its misfit."""
     weights = akaike_weights({k: f.aic for k, f in fits.items()})
     best = min(f.aic for f in fits.values())
+    own = fits[fit.normal]
     spread = {}
     for name in fit.vary:
-        if name in fit.priors or name in fit.lower_only:
+        if name in fit.priors or name in fit.lower_only or name not in own.values:
             continue
-        v0 = fit.values[name]
+        v0 = own.values[name]
         s2 = sum(
             w * (fits[k].values[name] - v0) ** 2
             for k, w in weights.items()
@@ -146,7 +151,7 @@ def model_spread(fit, alternatives: dict) -> tuple[dict, dict]:
     return spread, table
 
 
-def diagnose(fit, table=None, *, refit_order=None, geometry=None) -> dict:
+def diagnose(fit, table=None, *, refit_order=None, refit_law=None, geometry=None) -> dict:
     """The verdict of a contact fit (module notes); each cause found is warned about.
 
     Parameters
@@ -155,6 +160,10 @@ def diagnose(fit, table=None, *, refit_order=None, geometry=None) -> dict:
     table : dict, optional — the law table of :func:`model_spread`
     refit_order : callable, optional — ``refit_order(order) -> ContactFit``, the same fit
         with a Butterworth filter of that order (tried when the fit is poor)
+    refit_law : callable, optional — ``refit_law(law) -> ContactFit``, the same fit (with
+        its systematics) by another law: where another law is decisively better, the
+        sensor's filter is judged on that law's fit (a wrong law pulls the filter's
+        cut-off to hide its misfit)
     geometry : dict, optional — {"e_n": Δ, "e_t": Δ, "tol": τ, "theta": θ} from
         :func:`pipeline.advice.geometry_error`
     """
@@ -184,8 +193,11 @@ def diagnose(fit, table=None, *, refit_order=None, geometry=None) -> dict:
                 "select_model choose",
                 NormalLawWarning,
             )
-    # ---- the sensor's filter
-    bw = _pull(fit, "bandwidth")
+    # ---- the sensor's filter, judged on the better law's fit where that is another
+    judged = fit
+    if "normal_law" in causes and refit_law is not None:
+        judged = refit_law(min(table, key=lambda k: table[k]["aic"])) or fit
+    bw = _pull(judged, "bandwidth")
     if bw is not None and abs(bw[0]) > PULL_Z:
         add(
             "sensor_filter",
