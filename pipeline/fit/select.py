@@ -19,21 +19,30 @@ The tangential ladder, cheapest first (docs/theory.md):
 and, for the compliant rungs, the normal laws: elastic Hertz (no damping parameter), the
 Hunt–Crossley family, Hertz with a linear dashpot, viscoelastic.
 
-**The rule.** Every candidate is fitted (:func:`pipeline.fit.fit_contact`, no bootstrap).
-A candidate is *white* when its residuals are noise at the measured level: χ²_ν within
-three standard deviations of 1 (≤ 1 + 3·√(2/(N − k))) and no channel's residual signs run
-in long stretches (runs test z ≥ −2.326, α = 0.01). The chosen model is the simplest
-candidate that is white **or** within ΔAIC ≤ 2 of the best AIC — simplest meaning lower on
-the ladder, then fewer parameters, then earlier in ``candidates``. So a model is never
-preferred for fitting better than the noise allows, and when none is white the data's
-own ranking (AIC) decides among the near-best. The chosen fit is then refitted with the
-block bootstrap for its intervals.
+**The rule.** Every candidate is fitted (:func:`pipeline.fit.fit_contact`'s model, the
+inputs taken as exact and no bootstrap, so that the candidates compare like for like). A
+candidate is *adequate* when it passes the misfit test every fit uses
+(:func:`pipeline.fit.procedure.misfit`: χ²_ν against its spread, the runs test on each
+channel's residual signs; at most 1.5 % false alarms on records the model describes).
+The candidates of one ladder rung form a complexity class; within it they are ranked by
+AIC, with Akaike weights :math:`w_k \propto e^{-\Delta_k/2}` (Burnham & Anderson 2002).
+The chosen class is the simplest whose best candidate is adequate (rigid → Coulomb →
+Mindlin); where none is, the class of the best AIC overall. The chosen model is that
+class's best candidate, refitted with the caller's options (its systematics, the block
+bootstrap, the verdict), and :attr:`ModelSelection.averaged` averages the class's
+candidates by their weights: the values :math:`\bar\theta = \sum_k w_k\theta_k` and a
+``model`` term :math:`\sqrt{\sum_k w_k(\theta_k - \bar\theta)^2}` in the budget, so
+the intervals include the spread between laws the data cannot tell apart (two laws of
+equal weight and different E* widen E*'s interval to both).
 
 References
 ----------
 N. Maw, J. R. Barber, J. N. Fawcett, Wear 38:101 (1976),
 doi:10.1016/0043-1648(76)90201-7.
 H. Akaike, IEEE Trans. Autom. Control 19:716 (1974), doi:10.1109/TAC.1974.1100705.
+K. P. Burnham, D. R. Anderson, *Model Selection and Multimodel Inference*, 2nd ed.,
+Springer (2002), doi:10.1007/b97636, §4.2 (Akaike weights), §6.3 (the averaged estimate's
+unconditional variance).
 """
 
 from __future__ import annotations
@@ -44,13 +53,22 @@ import warnings
 from dataclasses import dataclass
 
 import numpy as np
+from scipy import special
 
 from .._json import json_ready
 from ..errors import InputError, PipelineWarning
-from .contact import DEFAULT_VARY, ContactFit, fit_model
-from .forward import _I, ANALYTIC, ForwardModel, RecordData, weighted_residuals
+from .contact import DEFAULT_VARY, ContactFit, fit_contact, fit_model
+from .forward import _I, ANALYTIC, SYSTEMATIC_PARAMS, ForwardModel, RecordData, weighted_residuals
+from .verdict import akaike_weights
 
-__all__ = ["ModelSelection", "select_model", "LADDER", "DEFAULT_CANDIDATES", "RigidModel"]
+__all__ = [
+    "ModelSelection",
+    "AveragedFit",
+    "select_model",
+    "LADDER",
+    "DEFAULT_CANDIDATES",
+    "RigidModel",
+]
 
 LADDER = ("rigid", "coulomb", "mindlin")
 #: (ladder rung, normal law) fitted by default, in order of preference among equals
@@ -63,7 +81,6 @@ DEFAULT_CANDIDATES = (
     ("mindlin", "hertz_dashpot"),
     ("mindlin", "viscoelastic"),
 )
-_RUNS_Z = -2.326
 
 
 class RigidModel:
@@ -164,10 +181,60 @@ class RigidModel:
         return {"Fn": z, "Ft": z}
 
 
-def _rank(c, order):
-    rung, normal = c
-    n_par = len(DEFAULT_VARY(normal, rung)) if rung != "rigid" else 3
-    return (LADDER.index(rung), n_par, order)
+@dataclass(frozen=True, eq=False)
+class AveragedFit:
+    """The model-averaged contact parameters of a :class:`ModelSelection` (module notes).
+
+    Attributes
+    ----------
+    values : dict — {name: averaged value}: the chosen fit's value shifted by the weighted
+        mean offset of the class's candidates
+    weights : dict — {normal law: Akaike weight} within the chosen class
+    fit : ContactFit — the chosen candidate's full fit (its systematics and bootstrap)
+    model_spread : dict — {name: σ} spread of the candidates about the average
+    """
+
+    values: dict
+    weights: dict
+    fit: ContactFit
+    model_spread: dict
+
+    @property
+    def budget(self) -> dict:
+        """The chosen fit's budget with the class's spread as its ``model`` term."""
+        out = {}
+        for name, row in self.fit.budget.items():
+            row = dict(row)
+            if name in self.model_spread:
+                row["model"] = self.model_spread[name]
+                row["total"] = math.sqrt(
+                    sum(v * v for k, v in row.items() if k != "total" and np.isfinite(v))
+                )
+            out[name] = row
+        return out
+
+    def ci(self, level: float = 0.95, kind: str = "total") -> dict:
+        """Intervals {name: (lo, hi)}: the chosen fit's (:meth:`FitResult.ci`), moved to the
+        averaged value and widened by the class's spread in place of its own model term."""
+        base = self.fit.ci(level, kind="stat")
+        z = float(special.ndtri(0.5 + level / 2.0))
+        out = {}
+        for name, (lo, hi) in base.items():
+            if name not in self.values or not (np.isfinite(lo) and np.isfinite(hi)):
+                out[name] = (lo, hi)
+                continue
+            v0, v = self.fit.values[name], self.values[name]
+            extra = 0.0
+            if kind == "total" and name in self.budget:
+                row = self.budget[name]
+                extra = math.sqrt(sum(x * x for k, x in row.items() if k not in ("stat", "total")))
+            lo, hi = v - math.hypot(v0 - lo, z * extra), v + math.hypot(hi - v0, z * extra)
+            out[name] = (lo, hi)
+        return out
+
+    @property
+    def stderr(self) -> dict:
+        return {n: row["total"] for n, row in self.budget.items()}
 
 
 @dataclass(frozen=True, eq=False)
@@ -179,13 +246,15 @@ class ModelSelection:
     table : pandas.DataFrame — one row per candidate: ``model`` (ladder rung), ``normal``,
         ``parameters`` (fitted values, text), ``k``, ``chi2``, ``redchi``, ``aic``, ``bic``,
         ``delta_aic``, ``rms`` [N] (RMS residual over both channels), ``noise`` [N] (RMS of
-        the channels' σ), ``runs_z`` (the worse channel's runs-test z), ``white`` (bool),
-        ``cost_s`` [s], ``chosen`` (bool)
+        the channels' σ), ``runs_z`` (the worse channel's runs-test z), ``white`` (bool:
+        adequate, the misfit test passes), ``verdict`` (``"ok"`` or the misfit's reasons),
+        ``weight`` (Akaike weight within its rung), ``cost_s`` [s], ``chosen`` (bool)
     chosen : str — the chosen ladder rung
     chosen_normal : str or None — its normal law
     fit : ContactFit — the chosen candidate's fit (with the bootstrap)
     fits : dict — every candidate's fit, keyed by (rung, normal)
     rule : str — why it was chosen
+    averaged : AveragedFit — the chosen rung's laws averaged by their weights
     """
 
     table: object
@@ -194,9 +263,10 @@ class ModelSelection:
     fit: ContactFit
     fits: dict
     rule: str
+    averaged: AveragedFit | None = None
 
     def report(self) -> str:
-        cols = ["model", "normal", "k", "redchi", "delta_aic", "rms", "noise", "runs_z", "white"]
+        cols = ["model", "normal", "k", "redchi", "delta_aic", "weight", "rms", "noise", "white"]
         df = self.table[cols + ["chosen"]].copy()
         lines = [
             f"Model selection: chosen {self.chosen!r}"
@@ -214,6 +284,13 @@ class ModelSelection:
                 "rule": self.rule,
                 "table": self.table.to_dict(orient="records"),
                 "fit": self.fit.summary(),
+                "averaged": None
+                if self.averaged is None
+                else {
+                    "values": self.averaged.values,
+                    "weights": self.averaged.weights,
+                    "ci95": {k: list(v) for k, v in self.averaged.ci().items()},
+                },
             }
         )
 
@@ -254,27 +331,21 @@ def select_model(record, scene, *, candidates=None, **options) -> ModelSelection
     opts = dict(options)
     n_boot = int(opts.pop("n_boot", 200))
     seed = int(opts.pop("seed", 0))
-    history = opts.get("history", "total")
-    n_steps = int(opts.get("n_steps", 128))
+    history = opts.pop("history", "total")
+    n_steps = int(opts.pop("n_steps", 128))
+    systematics = opts.pop("systematics", None)
     fits, rows = {}, []
-    for order, (rung, normal) in enumerate(cands):
+    for rung, normal in cands:
         t0 = time.perf_counter()
-        if rung == "rigid":
-            model, vary = RigidModel(), ("e", "mu", "t0")
-        else:
-            model = ForwardModel(normal, rung, history, n_steps)
-            vary = DEFAULT_VARY(normal, rung)
-        fit_opts = {k: v for k, v in opts.items() if k not in ("history", "n_steps")}
+        model, vary = _model(rung, normal, history, n_steps)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", PipelineWarning)
-            f = fit_model(record, scene, model, vary, n_boot=0, **fit_opts)
+            f = fit_model(record, scene, model, vary, n_boot=0, systematics={}, **opts)
         cost = time.perf_counter() - t0
         fits[(rung, normal)] = f
         res = f.residuals()
         sig = [c.sigma for c in f.data.channels]
-        rz = min((z for z in f.runs_z().values() if np.isfinite(z)), default=math.nan)
-        n, k = f.n_data, f.nvarys
-        white = f.redchi <= 1 + 3 * math.sqrt(2.0 / max(n - k, 1)) and not (rz < _RUNS_Z)
+        rz = min((z for z in f.misfit.runs_z.values() if np.isfinite(z)), default=math.nan)
         raw = np.concatenate([r * s for r, s in zip(res, sig, strict=True)])
         rows.append(
             {
@@ -283,7 +354,7 @@ def select_model(record, scene, *, candidates=None, **options) -> ModelSelection
                 "parameters": ", ".join(
                     f"{p}={f.values[p]:.5g}" + ("+" if p in f.lower_only else "") for p in f.vary
                 ),
-                "k": k,
+                "k": f.nvarys,
                 "chi2": f.chi2,
                 "redchi": f.redchi,
                 "aic": f.aic,
@@ -291,32 +362,79 @@ def select_model(record, scene, *, candidates=None, **options) -> ModelSelection
                 "rms": float(np.sqrt(np.mean(raw**2))),
                 "noise": float(np.sqrt(np.mean(np.square(sig)))),
                 "runs_z": rz,
-                "white": bool(white),
+                "white": bool(f.misfit.ok),
+                "verdict": "ok" if f.misfit.ok else "; ".join(f.misfit.reasons),
                 "cost_s": cost,
-                "_rank": _rank((rung, normal), order),
             }
         )
     import pandas as pd
 
     df = pd.DataFrame(rows)
     df["delta_aic"] = df["aic"] - df["aic"].min()
-    eligible = df[df["white"] | (df["delta_aic"] <= 2.0)]
-    pick = min(eligible.index, key=lambda i: df.loc[i, "_rank"])
-    rung, normal = df.loc[pick, "model"], df.loc[pick, "normal"]
+    df["weight"] = 0.0
+    for rung in LADDER:
+        sel = df.index[df["model"] == rung]
+        if len(sel):
+            w = akaike_weights({i: df.loc[i, "aic"] for i in sel})
+            df.loc[sel, "weight"] = [w[i] for i in sel]
+    best = {r: df[df["model"] == r]["aic"].idxmin() for r in LADDER if (df["model"] == r).any()}
+    adequate = [r for r in LADDER if r in best and df.loc[best[r], "white"]]
+    if adequate:
+        rung = adequate[0]
+        why = (
+            f"the simplest rung whose best law (by AIC, Akaike weight "
+            f"{df.loc[best[rung], 'weight']:.2f}) passes the misfit test"
+        )
+    else:
+        rung = df.loc[df["aic"].idxmin(), "model"]
+        why = "no candidate passes the misfit test; the rung of the best AIC"
+    pick = best[rung]
+    normal = df.loc[pick, "normal"]
     normal = (
         None if normal is None or (isinstance(normal, float) and math.isnan(normal)) else normal
     )
-    why = (
-        "the simplest whose residuals are white at the noise level"
-        if df.loc[pick, "white"]
-        else "no candidate is white; the simplest within ΔAIC ≤ 2 of the best"
-    )
     df["chosen"] = df.index == pick
-    df = df.drop(columns="_rank")
+    model, vary = _model(rung, normal, history, n_steps)
+    full = dict(opts, n_boot=n_boot, seed=seed)
     if rung == "rigid":
-        model, vary = RigidModel(), ("e", "mu", "t0")
+        chosen = fit_model(record, scene, model, vary, **full)
     else:
-        model, vary = ForwardModel(normal, rung, history, n_steps), DEFAULT_VARY(normal, rung)
-    fit_opts = {k: v for k, v in opts.items() if k not in ("history", "n_steps")}
-    best = fit_model(record, scene, model, vary, n_boot=n_boot, seed=seed, **fit_opts)
-    return ModelSelection(df, rung, normal, best, fits, why)
+        chosen = fit_contact(
+            record,
+            scene,
+            normal=normal,
+            tangential=rung,
+            vary=vary,
+            systematics=systematics,
+            history=history,
+            n_steps=n_steps,
+            **full,
+        )
+    averaged = _average(chosen, {(r, n): f for (r, n), f in fits.items() if r == rung}, df, rung)
+    return ModelSelection(df, rung, normal, chosen, fits, why, averaged)
+
+
+def _model(rung, normal, history, n_steps):
+    if rung == "rigid":
+        return RigidModel(), ("e", "mu", "t0")
+    return ForwardModel(normal, rung, history, n_steps), DEFAULT_VARY(normal, rung)
+
+
+def _average(chosen, fits, df, rung) -> AveragedFit:
+    """The rung's candidates averaged by their Akaike weights (module notes)."""
+    rows = df[df["model"] == rung]
+    weights = {
+        (rung, None if not isinstance(n, str) else n): float(w)
+        for n, w in zip(rows["normal"], rows["weight"], strict=True)
+    }
+    own = fits[(rung, chosen.normal if rung != "rigid" else None)]
+    values, spread = {}, {}
+    for name in chosen.vary:
+        if name in SYSTEMATIC_PARAMS or name in chosen.lower_only:
+            continue
+        have = {k: f.values[name] for k, f in fits.items() if name in f.values}
+        mean = sum(weights[k] * v for k, v in have.items()) / sum(weights[k] for k in have)
+        values[name] = chosen.values[name] + (mean - own.values[name])
+        spread[name] = math.sqrt(sum(weights[k] * (v - mean) ** 2 for k, v in have.items()))
+    laws = {("rigid" if k[1] is None else k[1]): w for k, w in weights.items()}
+    return AveragedFit(values, laws, chosen, spread)
