@@ -180,7 +180,10 @@ class ContactFit(FitResult):
         ]
 
     def runs_z(self) -> dict:
-        """Runs-test z of each channel's residual signs (pipeline.smooth.runs_test)."""
+        """Runs-test z of each channel's residual signs (pipeline.smooth.runs_test), on the
+        fit's (whitened) residuals where the misfit test ran."""
+        if self.misfit is not None:
+            return dict(self.misfit.runs_z)
         return {
             c.name: float(runs_test(r))
             for c, r in zip(self.data.channels, self.residuals(), strict=True)
@@ -198,10 +201,24 @@ class ContactFit(FitResult):
             f"  {self.n_data} samples, χ² = {self.chi2:.5g}, χ²_ν = {self.redchi:.4g}, "
             f"AIC = {self.aic:.5g}, BIC = {self.bic:.5g}"
             + (" — POOR FIT (structured residuals)" if self.poor else ""),
-            "  parameters (95 % intervals: "
+            "  verdict: "
+            + (
+                "not diagnosed"
+                if self.verdict is None
+                else ("ok" if self.verdict["ok"] else "the model does not describe the record")
+                + (
+                    f" — causes: {', '.join(self.verdict['causes'])}"
+                    if self.verdict["causes"]
+                    else ""
+                )
+            ),
+            "  parameters (95 % intervals, "
             + ("block bootstrap" if self.boot is not None else "covariance")
-            + "):",
+            + " for the data, widened by the systematics and the model spread):",
             *self._param_lines(),
+            *self._budget_lines(),
+            *self._systematics_lines(),
+            *self._law_lines(),
             "  implied:",
             f"    t_c = {ph['t_c'] * 1e6:.2f} µs, F_max = {ph['F_max']:.5g} N, "
             f"δ_max = {ph['delta_max'] * 1e6:.3f} µm, e_n = {ph['e_n']:.4f}",
@@ -216,6 +233,27 @@ class ContactFit(FitResult):
             lines += [f"    - {n}" for n in self.notes]
         lines += ["", "lmfit report:", fit_report(self.params)]
         return "\n".join(lines)
+
+    def _systematics_lines(self) -> list:
+        if not self.systematics:
+            return ["  inputs taken as exact (systematics={})"]
+        lines = ["  inputs known to a tolerance (stated value, standard uncertainty; source):"]
+        for s in self.systematics:
+            u = "fitted freely" if not math.isfinite(s.sigma) else f"u = {s.sigma:.3g}"
+            lines.append(f"    {s.name:<10s} {s.value:<12.6g} {u}; {s.source}")
+        return lines
+
+    def _law_lines(self) -> list:
+        if not self.alternatives:
+            return []
+        lines = ["  the laws compared (inputs exact): ΔAIC, Akaike weight, E*, e"]
+        for law, row in sorted(self.alternatives.items(), key=lambda kv: kv[1]["aic"]):
+            v = row["values"]
+            lines.append(
+                f"    {law:<16s} {row['delta_aic']:>10.1f} {row['weight']:>8.3f} "
+                f"{v.get('E_eff', math.nan):>12.5g} {v.get('e', math.nan):>8.4f}"
+            )
+        return lines
 
     def summary(self) -> dict:
         """Every number of the fit, strict-JSON ready (units in :data:`UNITS` and keys)."""
@@ -243,6 +281,17 @@ class ContactFit(FitResult):
                 "runs_z": self.runs_z(),
                 "sensor": d.sensor.summary(),
                 "window": d.window.summary(),
+                "noise": {c.name: c.noise.summary() for c in d.channels},
+                "budget": self.budget,
+                "systematics": [
+                    {"name": s.name, "value": s.value, "u": s.sigma, "source": s.source}
+                    for s in self.systematics
+                ],
+                "verdict": None
+                if self.verdict is None
+                else {k: v for k, v in self.verdict.items() if k != "impulse"}
+                | {"impulse": self.verdict.get("impulse", {})},
+                "laws": self.alternatives,
             }
         )
 

@@ -231,6 +231,11 @@ class FitResult:
                 grid, d = self.profiles[n]
                 out[n] = (one_sided_bound(grid, d, level, max(1.0, self.redchi)), math.inf)
                 continue
+            if n in self.priors:  # a systematic: its posterior, data and prior together
+                j = self.vary.index(n)
+                lo, hi = normal_interval(float(self.theta[i]), math.sqrt(self.cov[j, j]), level)
+                out[n] = (lo, hi)
+                continue
             if use_boot:
                 lo, hi = percentile_interval(self.boot[:, i], level)
             else:
@@ -243,6 +248,21 @@ class FitResult:
         return out
 
     # ------------------------------------------------------------ text
+    def _budget_lines(self) -> list:
+        """The uncertainty budget as a table: one row per parameter, one column per term."""
+        budget = self.budget
+        if not budget:
+            return []
+        cols = []
+        for row in budget.values():
+            cols += [k for k in row if k not in cols]
+        head = f"    {'':<10s}" + "".join(f"{c:>11s}" for c in cols)
+        lines = ["  uncertainty budget (standard uncertainties, SI units):", head]
+        for name, row in budget.items():
+            cells = "".join(f"{row.get(c, math.nan):>11.3g}" for c in cols)
+            lines.append(f"    {name:<10s}{cells}")
+        return lines
+
     def _param_lines(self, level=0.95) -> list:
         ci = self.ci(level)
         se = self.stderr
@@ -280,6 +300,8 @@ class FitResult:
                     ci95=list(ci[n]),
                     identifiable=self.identifiable[n],
                 )
+                if n in self.priors:
+                    entry["stated"], entry["stated_u"] = self.priors[n]
             out[n] = entry
         return out
 

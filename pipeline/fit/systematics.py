@@ -130,6 +130,7 @@ def resolve(systematics, data, tangential: str) -> tuple[Systematic, ...]:
         ``"auto"`` where none is defined.
     """
     given = DEFAULT_SYSTEMATICS if systematics is None else systematics
+    origin = "default" if systematics is None else "given"
     if not isinstance(given, Mapping):
         raise InputError(
             f"systematics must be a mapping of input → standard uncertainty, or None for the "
@@ -162,7 +163,7 @@ def resolve(systematics, data, tangential: str) -> tuple[Systematic, ...]:
             if found is not None:
                 out.append(found)
             continue
-        sigma, how = _sigma(name, spec, stated)
+        sigma, how = _sigma(name, spec, stated, origin)
         if sigma == 0.0:
             continue
         if name == "bandwidth" and (data.fine is None or not math.isfinite(stated)):
@@ -171,7 +172,7 @@ def resolve(systematics, data, tangential: str) -> tuple[Systematic, ...]:
     return tuple(out)
 
 
-def _sigma(name, spec, stated) -> tuple[float, str]:
+def _sigma(name, spec, stated, origin="given") -> tuple[float, str]:
     """(standard uncertainty [SI], how it was given) of one systematic."""
     absolute = isinstance(spec, tuple | list) and len(spec) == 2 and spec[1] == "abs"
     raw = spec[0] if absolute else spec
@@ -185,8 +186,8 @@ def _sigma(name, spec, stated) -> tuple[float, str]:
     if not (u >= 0 and math.isfinite(u)):
         raise InputError(f"systematics[{name!r}] = {spec!r} must be a finite number ≥ 0")
     if absolute or name in _ABSOLUTE:
-        return u, f"u = {u:.3g} (given)"
-    return u * abs(stated), f"u = {u:.3g} of the stated value (given)"
+        return u, f"u = {u:.3g} ({origin})"
+    return u * abs(stated), f"{u:.3g} of the stated value ({origin})"
 
 
 def _auto(name, data) -> Systematic | None:
