@@ -276,7 +276,7 @@ class ContactFit(FitResult):
                 },
                 "fit": self._summary_stats(),
                 "channels": {
-                    c.name: {"samples": int(c.t.size), "sigma_N": c.sigma} for c in d.channels
+                    c.name: {"samples": int(c.t.size), "sigma_N": c.sigma_rms} for c in d.channels
                 },
                 "runs_z": self.runs_z(),
                 "sensor": d.sensor.summary(),
@@ -531,6 +531,7 @@ def fit_model(record, scene, model, vary, *, t_begin=None, **options) -> Contact
     start = dict(opts.pop("start", None) or {})
     window_options = opts.pop("window_options", None)
     systematics = opts.pop("systematics", None)
+    time_error = opts.pop("time_error", None)
     if opts:
         raise InputError(
             f"fit_contact: unknown option(s) {', '.join(sorted(opts))}; see its docstring"
@@ -583,13 +584,68 @@ def fit_model(record, scene, model, vary, *, t_begin=None, **options) -> Contact
         if math.isfinite(s.sigma):
             priors[s.param] = (s.value, s.sigma)
     init.update(start)
-    kw = run_fit(model, [data], design, init, vary, notes, n_boot=n_boot, seed=seed, priors=priors)
+    n_pass = 1 if data.window.kind != "digitised" or time_error == 0 or normal is None else 3
+    for k in range(n_pass):
+        last = k == n_pass - 1
+        with warnings.catch_warnings():
+            if not last:  # the passes before the effective variances are not the answer
+                warnings.simplefilter("ignore", PipelineWarning)
+            kw = run_fit(
+                model, [data], design, init, vary, list(notes), n_boot=n_boot if last else 0,
+                seed=seed, priors=priors,
+            )  # fmt: skip
+        if k < n_pass - 1:  # digitised: weigh each click by its effective variance
+            data, note = effective_variance(data, model, design, kw, time_error)
+            design = _Single(data, normal, use_alpha)
+            init.update(zip(design.names, kw["theta"], strict=True))
+            if k == n_pass - 2:
+                notes.append(note)
     kw["systematics"] = syst
     P = design.local(kw["theta"][None, :])[0]
     sol = kw["problem"].solution(kw["theta"])[0]
     kw.update(data=data, physics=model.physics(data, P, sol))
     kw["cost_s"] = time.perf_counter() - t_begin
     return ContactFit(**kw)
+
+
+def effective_variance(data, model, design, kw, time_error=None):
+    """The record with each digitised point weighed by its effective variance, and a note.
+
+    A click lands off the curve in force and in time: σ_i² = σ_F² + (F′(t_i)·σ_t)², F′ the
+    fitted curve's slope there (Orear 1982: an error in x acts as an error in y of the
+    curve's slope times it). σ_F and σ_t are estimated together from the fit's residuals,
+    whose squares regress on (1, F′²) by non-negative least squares, unless ``time_error``
+    [s] gives σ_t; a steep flank's clicks then count for what they are worth.
+
+    References
+    ----------
+    J. Orear, Am. J. Phys. 50:912 (1982), doi:10.1119/1.12972.
+    """
+    from scipy.optimize import nnls
+
+    P = design.local(kw["theta"][None, :])[0]
+    sol = kw["problem"].solution(kw["theta"])[0]
+    chans, parts = [], []
+    for c, m in zip(data.channels, model.predict(data, P, sol), strict=True):
+        step = 1e-3 * float(np.median(np.diff(c.t))) if c.t.size > 1 else 1e-9
+        ahead = model.curves(data, P, sol, c.t + step)
+        behind = model.curves(data, P, sol, c.t - step)
+        slope = (ahead[c.name] - behind[c.name]) / (2 * step)
+        r2 = (c.y - m[0]) ** 2
+        if time_error is None:
+            (sf2, st2), _ = nnls(np.column_stack([np.ones_like(r2), slope**2]), r2)
+        else:
+            st2 = float(time_error) ** 2
+            sf2 = max(float(np.mean(r2 - slope**2 * st2)), 0.0)
+        floor = 1e-6 * float(np.max(np.abs(c.y)))
+        sigma = np.sqrt(np.maximum(sf2 + slope**2 * st2, floor**2))
+        chans.append(dataclasses.replace(c, sigma=sigma))
+        parts.append(f"{c.name}: σ_F = {math.sqrt(sf2):.3g} N, σ_t = {math.sqrt(st2):.3g} s")
+    note = (
+        "digitised points weighed by their effective variance σ_F² + (F′·σ_t)² (clicks off in "
+        "force and in time; Orear 1982): " + "; ".join(parts)
+    )
+    return dataclasses.replace(data, channels=tuple(chans)), note
 
 
 def _diagnosed(fit, record, scene, vary, options, t_begin) -> ContactFit:

@@ -138,7 +138,8 @@ class Channel:
     name : str — ``"Fn"`` or ``"Ft"``
     t : numpy.ndarray — sample instants [s]
     y : numpy.ndarray — measured force less the baseline [N]
-    sigma : float — noise standard deviation [N] (the weights are 1/σ)
+    sigma : float or numpy.ndarray — noise standard deviation [N] (the weights are 1/σ; one
+        per point for a digitised record weighed by its effective variance)
     basis : numpy.ndarray or None — orthonormal basis (n, 2) of {1, t − t̄}: the residual
         baseline fitted with the contact (module notes); None: no baseline fitted
     n_noise : int — samples σ was measured on (0: not measured, e.g. given)
@@ -163,6 +164,11 @@ class Channel:
                 else np.linalg.qr(self.noise.whiten(self.basis.T).T)[0]
             )
         object.__setattr__(self, "_wbasis", wb)
+
+    @property
+    def sigma_rms(self) -> float:
+        """The noise level [N]: σ, or the RMS of the points' σ where each has its own."""
+        return float(np.sqrt(np.mean(np.square(self.sigma))))
 
     def project(self, r):
         """``r`` (…, n) less its least-squares baseline a + b·(t − t̄)."""

@@ -360,7 +360,7 @@ def select_model(record, scene, *, candidates=None, **options) -> ModelSelection
                 "aic": f.aic,
                 "bic": f.bic,
                 "rms": float(np.sqrt(np.mean(raw**2))),
-                "noise": float(np.sqrt(np.mean(np.square(sig)))),
+                "noise": float(np.sqrt(np.mean([c.sigma_rms**2 for c in f.data.channels]))),
                 "runs_z": rz,
                 "white": bool(f.misfit.ok),
                 "verdict": "ok" if f.misfit.ok else "; ".join(f.misfit.reasons),

@@ -366,7 +366,8 @@ def impulse_mismatch(fit) -> dict:
         diff = float(np.sum(c.project(c.y - m)[span]) * dt)
         nm = c.noise
         lr = 1.0 if nm.white else nm.innovation / abs(1.0 - float(np.sum(nm.phi)))
-        s = c.sigma * lr * dt * math.sqrt(n_span * (1.0 + n_span / max(c.t.size, 1)))
+        var = float(np.sum(np.broadcast_to(c.sigma, c.t.shape)[span] ** 2))
+        s = lr * dt * math.sqrt(var * (1.0 + n_span / max(c.t.size, 1)))
         rel = diff / model if model else math.nan
         out[key] = {
             "model_Ns": model,
