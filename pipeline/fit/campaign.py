@@ -39,17 +39,19 @@ import math
 import time
 import warnings
 from dataclasses import dataclass, field
+from types import SimpleNamespace
 
 import numpy as np
 
 from .._json import json_ready
 from ..contact import NORMAL_LAWS
-from ..errors import InputError, PipelineWarning
+from ..errors import InputError, PipelineWarning, PoorFitWarning
 from ..scene import Scene
-from .contact import _e_of_alpha, fit_contact
+from .blocks import solve_blocks
+from .contact import DEFAULT_VARY, _start, e_of_alpha, fit_model
 from .engine import Design
 from .forward import ForwardModel, prepare
-from .procedure import run_fit
+from .procedure import _bounds, _rec, base_name, misfit, run_fit
 from .result import FitResult
 
 __all__ = ["CampaignFit", "fit_campaign", "MU_LAWS", "DAMPING"]
@@ -102,6 +104,7 @@ class _Campaign(Design):
         self.names = tuple(names)
         self.scale = np.array(scale, dtype=float)
         self.vt0 = np.array([float(d.scene.v_t0) for d in datas])
+        self._cols = None  # per-record column indices and constants, on first use
 
     @staticmethod
     def _slot(add, name, is_shared, R, sc):
@@ -117,30 +120,64 @@ class _Campaign(Design):
     def _index(self, name, i):
         return self.names.index(name if name in self.names else f"{name}_{i}")
 
+    def shared_index(self) -> list:
+        """Global indices of the parameters every record depends on."""
+        return [k for k, n in enumerate(self.names) if not n.rsplit("_", 1)[-1].isdigit()]
+
+    def own_index(self) -> list:
+        """Per record, the global indices of its own parameters (the same kinds for all)."""
+        own = [[] for _ in self.datas]
+        for k, n in enumerate(self.names):
+            head, _, tail = n.rpartition("_")
+            if tail.isdigit() and head:
+                own[int(tail)].append(k)
+        return own
+
     def local(self, theta):
+        """Every record's local parameters, vectorised over records: e(α) for the
+        Hunt–Crossley family computed once for all records and rows (one call of the law's
+        closed form, not one per record)."""
         theta = np.atleast_2d(theta)
-        B = theta.shape[0]
-        out = []
-        for i, d in enumerate(self.datas):
-            P = np.tile(d.nominal(), (B, 1))
-            P[:, 0] = theta[:, self._index("E_eff", i)]
-            P[:, 4] = theta[:, self.speed[i]]
-            P[:, 5] = theta[:, self.t0[i]]
-            if self.law == "hertz":
-                P[:, 1] = 1.0
-            elif self.damping == "constant_alpha":
-                P[:, 1] = _e_of_alpha(self.law, theta[:, self.damp], P[:, 0], P[:, 4], d)
-            else:
-                P[:, 1] = theta[:, self.damp]
-            if self.mu is None:
-                P[:, 2] = 0.0
-            elif len(self.mu) == 1:
-                P[:, 2] = theta[:, self.mu[0]]
-            else:
-                P[:, 2] = np.maximum(theta[:, self.mu[0]] + theta[:, self.mu[1]] * self.vt0[i], 0.0)
-            P[:, 3] = 1.0 if self.kt is None else theta[:, self._index("kt_scale", i)]
-            out.append(P)
-        return out
+        B, R = theta.shape[0], len(self.datas)
+        if self._cols is None:
+            self._cols = {
+                "E": np.array([self._index("E_eff", i) for i in range(R)]),
+                "kt": None
+                if self.kt is None
+                else np.array([self._index("kt_scale", i) for i in range(R)]),
+                "nominal": np.array([d.nominal() for d in self.datas]),
+                "R_eff": np.array([d.R_eff for d in self.datas]),
+                "m_eff": np.array([d.m_eff for d in self.datas]),
+                "cos_a": np.array([d.cos_a for d in self.datas]),
+            }
+        c = self._cols
+        P = np.repeat(c["nominal"][:, None, :], B, axis=1)  # (R, B, L)
+        P[:, :, 0] = theta[:, c["E"]].T
+        P[:, :, 4] = theta[:, self.speed].T
+        P[:, :, 5] = theta[:, self.t0].T
+        if self.law == "hertz":
+            P[:, :, 1] = 1.0
+        elif self.damping == "constant_alpha":
+            P[:, :, 1] = e_of_alpha(
+                self.law,
+                theta[:, self.damp][None, :],
+                P[:, :, 0],
+                P[:, :, 4],
+                c["R_eff"][:, None],
+                c["m_eff"][:, None],
+                c["cos_a"][:, None],
+            )
+        else:
+            P[:, :, 1] = theta[:, self.damp][None, :]
+        if self.mu is None:
+            P[:, :, 2] = 0.0
+        elif len(self.mu) == 1:
+            P[:, :, 2] = theta[:, self.mu[0]][None, :]
+        else:
+            a, b = theta[:, self.mu[0]][None, :], theta[:, self.mu[1]][None, :]
+            P[:, :, 2] = np.maximum(a + b * self.vt0[:, None], 0.0)
+        P[:, :, 3] = 1.0 if self.kt is None else theta[:, c["kt"]].T
+        return list(P)
 
 
 @dataclass(frozen=True, eq=False)
@@ -299,19 +336,91 @@ def _as_list(x, n, what):
     return [x] * n
 
 
-def _starts(fits, datas, design, law):
-    """Starting values of the global parameters from the single-record fits."""
+@dataclass(frozen=True)
+class _Joint:
+    """What a joint fit keeps of its problem: the design (per-record parameters)."""
+
+    design: Design
+    datas: tuple
+
+
+def _joint(model, datas, design, init, vary) -> dict:
+    """The joint fit by the block solver (:mod:`pipeline.fit.blocks`), as the fields of a
+    :class:`CampaignFit` (those :func:`pipeline.fit.procedure.run_fit` gives a dense one)."""
+    import lmfit
+
+    names = design.names
+    varied = np.array([n in vary for n in names])
+    lower = np.full(len(names), -np.inf)
+    upper = np.full(len(names), np.inf)
+    theta0 = np.empty(len(names))
+    for i, n in enumerate(names):
+        lo, hi = _bounds(base_name(n), init[n], datas[_rec(n, len(datas))])
+        if varied[i]:
+            lower[i], upper[i] = lo, hi
+        theta0[i] = float(np.clip(init[n], lower[i], upper[i]))
+    res = solve_blocks(model, datas, design, theta0, varied, lower, upper)
+    r = np.concatenate(res.residuals)
+    n = r.size
+    k = int(varied.sum())
+    nuisance = sum(d.n_nuisance for d in datas)
+    redchi = res.chi2 / max(n - k - nuisance, 1)
+    cov = res.cov * max(1.0, redchi)
+    check = misfit(r, datas, k)
+    notes = []
+    if not check.ok or not res.success:
+        reasons = list(check.reasons) + ([] if res.success else [res.message])
+        msg = f"joint fit ({model.name}): " + "; ".join(reasons)
+        notes.append(msg)
+        warnings.warn(msg, PoorFitWarning, stacklevel=3)
+    params = lmfit.Parameters()
+    vidx = {j: i for i, j in enumerate(np.flatnonzero(varied))}
+    for i, nm in enumerate(names):
+        params.add(nm, value=float(res.theta[i]), vary=bool(varied[i]))
+        if i in vidx and np.isfinite(cov[vidx[i], vidx[i]]):
+            params[nm].stderr = math.sqrt(cov[vidx[i], vidx[i]])
+    return dict(
+        names=tuple(names),
+        theta=res.theta,
+        varied=tuple(bool(v) for v in varied),
+        cov=cov,
+        chi2=res.chi2,
+        n_data=n,
+        n_nuisance=nuisance,
+        params=params,
+        result=SimpleNamespace(
+            nfev=res.nfev, njev=res.njev, success=res.success, message=res.message
+        ),
+        notes=tuple(notes),
+        poor=bool(notes),
+        misfit=check,
+        problem=_Joint(design, tuple(datas)),
+    )
+
+
+def _single_values(fit) -> dict:
+    """A single-record fit's starting values for the joint fit: its values (the optimiser's
+    for a parameter bounded only from below), standard errors and identifiability."""
+    out = {n: float(fit.params[n].value) for n in fit.vary}
+    out.update({f"{n}_stderr": fit.stderr[n] for n in fit.vary})
+    out.update({f"{n}_identifiable": bool(fit.identifiable[n]) for n in fit.vary})
+    return out
+
+
+def _starts(singles, datas, design, law):
+    """Starting values of the global parameters from the single-record fits' values
+    (:func:`_single_values`, or the caller's ``starts``: E_eff, e, mu, kt_scale, t0 per
+    record; the standard errors weigh μ where given)."""
     init = {}
-    vals = [f.values for f in fits]
-    for i, (f, d) in enumerate(zip(fits, datas, strict=True)):
-        init[f"t0_{i}"] = vals[i]["t0"]
+    vals = list(singles)
+    for i, d in enumerate(datas):
+        v = vals[i]
+        init[f"t0_{i}"] = v["t0"]
         init[f"speed_{i}"] = float(d.scene.speed)
-        init[f"E_eff_{i}"] = vals[i]["E_eff"]
-        init[f"kt_scale_{i}"] = (
-            min(max(f.params["kt_scale"].value, 0.05), 20.0) if "kt_scale" in vals[i] else 1.0
-        )
+        init[f"E_eff_{i}"] = v["E_eff"]
+        init[f"kt_scale_{i}"] = min(max(v.get("kt_scale", 1.0), 0.05), 20.0)
     init["E_eff"] = float(np.median([v["E_eff"] for v in vals]))
-    init["kt_scale"] = float(np.median([init[f"kt_scale_{i}"] for i in range(len(fits))]))
+    init["kt_scale"] = float(np.median([init[f"kt_scale_{i}"] for i in range(len(vals))]))
     es = np.array([v.get("e", 1.0) for v in vals])
     init["e"] = float(np.median(es))
     if law != "hertz":
@@ -323,12 +432,10 @@ def _starts(fits, datas, design, law):
             a.append(float(L.calibrate(min(e, 0.999999))) / unit if unit else 0.0)
         init["alpha"] = float(np.median(a))
     mus = np.array([v.get("mu", math.nan) for v in vals])
-    ok = np.array(
-        [("mu" in f.vary) and f.identifiable.get("mu", False) for f in fits], dtype=bool
-    ) & np.isfinite(mus)
+    ok = np.array([v.get("mu_identifiable", True) for v in vals], dtype=bool) & np.isfinite(mus)
     if not ok.any():
         ok = np.isfinite(mus)
-    se = np.array([f.stderr.get("mu", math.nan) for f in fits])
+    se = np.array([v.get("mu_stderr", math.nan) for v in vals])
     w = np.where(np.isfinite(se) & (se > 0), 1.0 / np.maximum(se, 1e-12) ** 2, 1.0)[ok]
     init["mu"] = float(np.average(mus[ok], weights=w)) if ok.any() else 0.1
     vt = design.vt0[ok]
@@ -396,8 +503,17 @@ def fit_campaign(
     n_boot = int(opts.pop("n_boot", 0))
     seed = int(opts.pop("seed", 0))
     window_options = opts.pop("window_options", None)
+    starts = opts.pop("starts", None)
+    solver = opts.pop("solver", "blocks")
     if opts:
         raise InputError(f"fit_campaign: unknown option(s) {', '.join(sorted(opts))}")
+    if solver not in ("blocks", "dense"):
+        raise InputError(f"solver must be 'blocks' or 'dense', got {solver!r}")
+    if solver == "blocks" and n_boot:
+        raise InputError(
+            "fit_campaign: the bootstrap needs solver='dense' (the block solver gives "
+            "covariance intervals)"
+        )
     records = list(records)
     if len(records) < 2:
         raise InputError("fit_campaign needs at least two records (fit_contact fits one)")
@@ -432,25 +548,31 @@ def fit_campaign(
         )
         for r, s, se, no in zip(records, scenes, sensors, noises, strict=True)
     ]
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", PipelineWarning)
-        singles = [
-            fit_contact(
-                r,
-                s,
-                normal=normal,
-                tangential=tangential,
-                history=history,
-                sensor=se,
-                noise=no,
-                margin=margin,
-                n_steps=n_steps,
-                oversample=oversample,
-                n_boot=0,
-                window_options=window_options,
-            )
-            for r, s, se, no in zip(records, scenes, sensors, noises, strict=True)
-        ]
+    if starts == "moments":
+        singles = [_start(d, model, float(d.scene.speed)) for d in datas]
+    elif starts is None:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", PipelineWarning)
+            singles = [
+                _single_values(
+                    fit_model(
+                        r,
+                        s,
+                        model,
+                        DEFAULT_VARY(normal, tangential),
+                        sensor=se,
+                        noise=no,
+                        margin=margin,
+                        oversample=oversample,
+                        n_boot=0,
+                        window_options=window_options,
+                        systematics={},
+                    )
+                )
+                for r, s, se, no in zip(records, scenes, sensors, noises, strict=True)
+            ]
+    else:
+        singles = _as_list(starts, len(records), "starts")
     names = tuple(str(r.attrs.get("source", f"record {i}")) for i, r in enumerate(records))
     todo = [(mu_law, damping)]
     if hyps == "all":
@@ -466,7 +588,10 @@ def fit_campaign(
         vary = [n for n in design.names if not n.startswith("speed_")]
         if normal == "hertz":
             vary = [n for n in vary if n not in ("e", "alpha")]
-        kw = run_fit(model, datas, design, init, vary, [], n_boot=n_boot, seed=seed)
+        if solver == "dense":
+            kw = run_fit(model, datas, design, init, vary, [], n_boot=n_boot, seed=seed)
+        else:
+            kw = _joint(model, datas, design, init, vary)
         kw.update(
             mu_law=ml,
             damping=dm,
@@ -477,6 +602,8 @@ def fit_campaign(
             cost_s=time.perf_counter() - t_begin,
         )
         fits[(ml, dm)] = CampaignFit(**kw)
+        if solver == "blocks":  # the next hypothesis starts from this one's records
+            singles = fits[(ml, dm)].per_record().to_dict("records")
     for f in fits.values():
         f.hypotheses.update(fits)
     return fits[(mu_law, damping)]

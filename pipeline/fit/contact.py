@@ -92,17 +92,20 @@ class _Single(Design):
     def local(self, theta):
         P = np.array(theta, dtype=float, copy=True)
         if self.use_alpha:
-            P[:, 1] = _e_of_alpha(self.law, P[:, 1], P[:, 0], P[:, 4], self.data)
+            d = self.data
+            P[:, 1] = e_of_alpha(self.law, P[:, 1], P[:, 0], P[:, 4], d.R_eff, d.m_eff, d.cos_a)
         return [P]
 
 
-def _e_of_alpha(law, alpha, E, speed, data):
-    """Restitution of ``law`` with material constant α at E*, speed (docs/theory.md)."""
+def e_of_alpha(law, alpha, E, speed, R_eff, m_eff, cos_a):
+    """Restitution of ``law`` with material constant α [s/m] at E* [Pa] and speed [m/s], for
+    R* [m], m* [kg] and the incidence's cosine (docs/theory.md); every argument broadcast,
+    so a campaign's records and rows take one call of the law's closed form."""
     L = NORMAL_LAWS[law]
-    K = 4.0 / 3.0 * E * math.sqrt(data.R_eff)
-    v0 = speed * data.cos_a
+    K = 4.0 / 3.0 * E * np.sqrt(R_eff)
     with np.errstate(invalid="ignore"):
-        e = np.asarray(L.cor(np.maximum(L.material_to_param(alpha, K, data.m_eff, v0), 0.0)))
+        p = L.material_to_param(alpha, K, m_eff, speed * cos_a)
+        e = np.asarray(L.cor(np.maximum(p, 0.0)))
     return np.clip(e, E_MIN, 1.0)
 
 

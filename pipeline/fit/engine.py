@@ -31,10 +31,9 @@ import numpy as np
 
 from .forward import ANALYTIC, PARAMS, ForwardModel
 
-__all__ = ["Design", "Problem", "gauss_newton_many"]
+__all__ = ["Design", "Problem", "gauss_newton_many", "local_jacobians"]
 
 _P = {name: i for i, name in enumerate(PARAMS)}
-_A = [_P[a] for a in ANALYTIC]
 #: relative finite-difference step of the local parameters
 _REL = 1e-6
 
@@ -103,46 +102,20 @@ class Problem:
         pulse, :meth:`ForwardModel.predict`), the others by forward differences.
         """
         Theta = np.atleast_2d(np.asarray(Theta, dtype=float))
-        B = Theta.shape[0]
         Ps = self.design.local(Theta)
         self.n_calls += 1
         if not jacobian:
             res, self.solutions = self.model.residuals(self.datas, Ps)
             return self._with_priors(np.concatenate(res, axis=1), Theta), None
         dP = self.design.dlocal(Theta, self.vary)
-        cols, steps, active = [], [], []
-        for P, D in zip(Ps, dP, strict=True):
-            act = np.flatnonzero(np.any(D != 0, axis=(0, 2)))
-            fd = [l for l in act if PARAMS[l] not in ANALYTIC]
-            st = np.empty((B, len(fd)))
-            blocks = [P]
-            for j, l in enumerate(fd):
-                name = PARAMS[l]
-                if name == "e":
-                    h = np.where(P[:, l] + 1e-6 > 1.0, -1e-6, 1e-6)
-                else:
-                    h = _REL * np.maximum(np.abs(P[:, l]), 1e-3 if name == "mu" else 1e-300)
-                Q = P.copy()
-                Q[:, l] += h
-                blocks.append(Q)
-                st[:, j] = h
-            cols.append(np.concatenate(blocks))
-            steps.append(st)
-            active.append((act, fd))
-        res, sols, ders = self.model.residuals(self.datas, cols, nderiv=[B] * len(cols))
-        self.solutions = [None if s is None else s.head(B) for s in sols]
-        r_all, J_all = [], []
-        for r, st, (act, fd), D, der in zip(res, steps, active, dP, ders, strict=True):
-            n = r.shape[1]
-            base = r[:B]
-            Jl = np.zeros((B, len(PARAMS), n))
-            if fd:
-                pert = r[B:].reshape(len(fd), B, n)
-                Jl[:, fd] = np.moveaxis((pert - base[None]) / st.T[:, :, None], 0, 1)
-            Jl[:, _A] = der
-            r_all.append(base)
-            J_all.append(np.einsum("bln,blv->bnv", Jl[:, act], D[:, act, :]))
-        r, J = np.concatenate(r_all, axis=1), np.concatenate(J_all, axis=1)
+        active = [np.flatnonzero(np.any(D != 0, axis=(0, 2))) for D in dP]
+        res, Jls, sols = local_jacobians(self.model, self.datas, Ps, active)
+        self.solutions = sols
+        J_all = [
+            np.einsum("bln,blv->bnv", Jl[:, act], D[:, act, :])
+            for Jl, act, D in zip(Jls, active, dP, strict=True)
+        ]
+        r, J = np.concatenate(res, axis=1), np.concatenate(J_all, axis=1)
         return self._with_priors(r, Theta, J)
 
     @property
@@ -182,6 +155,60 @@ class Problem:
         """The model's solution of each record at θ (kept from the last evaluation there)."""
         self.residual(theta)
         return self._last[3]
+
+
+def local_jacobians(model, datas, Ps, active):
+    """Weighted residuals and their derivatives with respect to the local parameters, per
+    record, in one vectorised call of the forward model.
+
+    Parameters
+    ----------
+    model : ForwardModel
+    datas : list of RecordData
+    Ps : list of numpy.ndarray (B, len(PARAMS)) — each record's local parameters
+    active : list of sequences of int — per record, the local parameters (indices into
+        PARAMS) to differentiate: the :data:`~pipeline.fit.forward.ANALYTIC` ones in closed
+        form, the others by forward differences
+
+    Returns
+    -------
+    res : list of (B, n_i); Jl : list of (B, len(PARAMS), n_i) (zero outside ``active``);
+    sols : list of the model's solutions of the B rows
+    """
+    B = Ps[0].shape[0]
+    cols, steps, fds = [], [], []
+    for P, act in zip(Ps, active, strict=True):
+        fd = [l for l in act if PARAMS[l] not in ANALYTIC]
+        st = np.empty((B, len(fd)))
+        blocks = [P]
+        for j, l in enumerate(fd):
+            name = PARAMS[l]
+            if name == "e":
+                h = np.where(P[:, l] + 1e-6 > 1.0, -1e-6, 1e-6)
+            else:
+                h = _REL * np.maximum(np.abs(P[:, l]), 1e-3 if name == "mu" else 1e-300)
+            Q = P.copy()
+            Q[:, l] += h
+            blocks.append(Q)
+            st[:, j] = h
+        cols.append(np.concatenate(blocks))
+        steps.append(st)
+        fds.append(fd)
+    analytic = [tuple(PARAMS[l] for l in act if PARAMS[l] in ANALYTIC) for act in active]
+    res, sols, ders = model.residuals(datas, cols, nderiv=[B] * len(cols), analytic=analytic)
+    out_r, out_J = [], []
+    for r, st, fd, der, an in zip(res, steps, fds, ders, analytic, strict=True):
+        n = r.shape[1]
+        base = r[:B]
+        Jl = np.zeros((B, len(PARAMS), n))
+        if fd:
+            pert = r[B:].reshape(len(fd), B, n)
+            Jl[:, fd] = np.moveaxis((pert - base[None]) / st.T[:, :, None], 0, 1)
+        if an:
+            Jl[:, [_P[a] for a in an]] = der
+        out_r.append(base)
+        out_J.append(Jl)
+    return out_r, out_J, [None if s is None else s.head(B) for s in sols]
 
 
 def _solve_normal(J, r, damp):

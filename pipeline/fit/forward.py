@@ -635,10 +635,11 @@ class ForwardModel:
             rates.append(None)
         return (out[0], out[1], rates[0], rates[1]) if nderiv else (out[0], out[1])
 
-    def _forces(self, data, P, sol, t, names, nderiv):
+    def _forces(self, data, P, sol, t, names, nderiv, analytic=ANALYTIC):
         """Measured-axis forces at instants ``t`` (before the filter), one (C, n) array per
         name, and for the first ``nderiv`` columns their derivatives with respect to the
-        :data:`ANALYTIC` parameters, one (nderiv, len(ANALYTIC), n) array per name."""
+        ``analytic`` parameters (of :data:`ANALYTIC`), one (nderiv, len(analytic), n) array
+        per name."""
         ds, T, Fs, v0 = self.scales(data, P)
         t0 = P[:, _I["t0"]][:, None]
         tau = (t[None, :] - t0) / T[:, None]
@@ -674,7 +675,7 @@ class ForwardModel:
         out = []
         for name in names:
             cols = []
-            for a in ANALYTIC:
+            for a in analytic:
                 if a in ("gain_n", "gain_t", "leak"):
                     cols.append(self._dmix(data.sensor.crosstalk, Pb, fn[b], ft, name, a))
                     continue
@@ -683,17 +684,17 @@ class ForwardModel:
             out.append(np.stack(cols, axis=1))
         return mixed, out
 
-    def predict(self, data: RecordData, P, sol: Solution, nderiv: int = 0):
+    def predict(self, data: RecordData, P, sol: Solution, nderiv: int = 0, analytic=ANALYTIC):
         """The model at every fitted sample of ``data``: one (C, n_c) array per channel [N];
         with ``nderiv`` > 0 also the derivatives of the first ``nderiv`` columns with
-        respect to the :data:`ANALYTIC` parameters, one (nderiv, len(ANALYTIC), n_c) array
-        per channel."""
+        respect to the ``analytic`` parameters (default every one of :data:`ANALYTIC`), one
+        (nderiv, len(analytic), n_c) array per channel."""
         names = [c.name for c in data.channels]
         bw = P[:, _I["bandwidth"]]
         if data.fine is None or not np.any(np.isfinite(bw)):
             out, der = [], []
             for ch in data.channels:
-                m, d = self._forces(data, P, sol, ch.t, [ch.name], nderiv)
+                m, d = self._forces(data, P, sol, ch.t, [ch.name], nderiv, analytic)
                 out.append(m[0])
                 der.append(None if d is None else d[0])
             return (out, der) if nderiv else out
@@ -710,8 +711,8 @@ class ForwardModel:
         step = fine[1] - fine[0] if fine.size > 1 else 1.0
         ring = data.sensor.ring_time(float(np.nanmin(np.where(np.isfinite(bw), bw, np.nan))))
         end = min(fine.size, hi + int(math.ceil(ring / step)) + 1)
-        m, d = self._forces(data, P, sol, fine[lo:hi], names, nderiv)
-        ncol, nch, na = P.shape[0], len(names), len(ANALYTIC)
+        m, d = self._forces(data, P, sol, fine[lo:hi], names, nderiv, analytic)
+        ncol, nch, na = P.shape[0], len(names), len(analytic)
         # rows: every channel's columns, then every channel's derivative rows; each row
         # keeps the bandwidth of its column
         rows = list(m) + ([x.reshape(-1, x.shape[-1]) for x in d] if nderiv else [])
@@ -774,16 +775,17 @@ class ForwardModel:
         leak = P[:, _I["leak"]][:, None]
         return (ft0 if C is None else C[1, 0] * fn + C[1, 1] * ft0) + leak * fn
 
-    def residuals(self, datas, Ps, nderiv=None):
+    def residuals(self, datas, Ps, nderiv=None, analytic=None):
         """Weighted residuals (y − model)/σ, (C, n_data) per record, and the solutions; with
         ``nderiv`` (one count per record) also the residuals' derivatives with respect to
-        the :data:`ANALYTIC` parameters of the leading columns, (nderiv, len(ANALYTIC),
-        n_data) per record."""
+        the ``analytic`` parameters of each record (default every one of
+        :data:`ANALYTIC`) at its leading columns, (nderiv, len(analytic), n_data) per
+        record."""
         sols = self.solve(datas, Ps)
         out, ders = [], []
         for i, (d, P, s) in enumerate(zip(datas, Ps, sols, strict=True)):
             nd = 0 if nderiv is None else nderiv[i]
-            pred = self.predict(d, P, s, nd)
+            pred = self.predict(d, P, s, nd, ANALYTIC if analytic is None else analytic[i])
             if nd:
                 pred, der = pred
             out.append(weighted_residuals(d, pred))

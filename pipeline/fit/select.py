@@ -126,7 +126,7 @@ class RigidModel:
         dg = np.where(np.abs(tau) < dt, -np.sign(tau) / dt**2, 0.0)
         return g, dg
 
-    def predict(self, data, P, sol=None, nderiv=0):
+    def predict(self, data, P, sol=None, nderiv=0, analytic=ANALYTIC):
         pn, pt = self._impulses(data, P)
         C = data.sensor.crosstalk
         out, der = [], []
@@ -142,16 +142,17 @@ class RigidModel:
                 b = slice(0, nderiv)
                 # only t0 moves an impulse's response (the other analytic parameters are
                 # the compliant models'; a rigid fit varies e, μ and t0)
-                d = np.zeros((g[b].shape[0], len(ANALYTIC), g.shape[1]))
-                d[:, ANALYTIC.index("t0")] = -w[b, None] * dg[b]
+                d = np.zeros((g[b].shape[0], len(analytic), g.shape[1]))
+                if "t0" in analytic:
+                    d[:, analytic.index("t0")] = -w[b, None] * dg[b]
                 der.append(d)
         return (out, der) if nderiv else out
 
-    def residuals(self, datas, Ps, nderiv=None):
+    def residuals(self, datas, Ps, nderiv=None, analytic=None):
         out, ders = [], []
         for i, (d, P) in enumerate(zip(datas, Ps, strict=True)):
             nd = 0 if nderiv is None else nderiv[i]
-            pred = self.predict(d, P, None, nd)
+            pred = self.predict(d, P, None, nd, ANALYTIC if analytic is None else analytic[i])
             if nd:
                 pred, der = pred
                 ders.append(weighted_residuals(d, der, derivative=True))

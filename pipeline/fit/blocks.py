@@ -1,0 +1,267 @@
+r"""Least squares over many records whose parameters are shared or their own, in time
+linear in the records: Levenberg–Marquardt by the Schur complement.
+
+A campaign's joint fit (:func:`pipeline.fit_campaign`) has a few *shared* parameters s (E*,
+the damping, the friction law's a and b) and a few *own* parameters l_i per record (its
+onset t0, its ``kt_scale``, ...). Its Jacobian is block-sparse — record i's residuals r_i
+depend on s and l_i only — so the Gauss–Newton normal equations
+
+.. math::
+
+    \begin{pmatrix} \sum_i J_{s,i}^\top J_{s,i} & J_{s,1}^\top J_{l,1} & \cdots \\
+    J_{l,1}^\top J_{s,1} & J_{l,1}^\top J_{l,1} & \\ \vdots & & \ddots \end{pmatrix}
+    \begin{pmatrix} \delta s \\ \delta l_1 \\ \vdots \end{pmatrix} = -
+    \begin{pmatrix} \sum_i J_{s,i}^\top r_i \\ J_{l,1}^\top r_1 \\ \vdots \end{pmatrix}
+
+are solved by eliminating each record's own block: with :math:`M_i = (J_{l,i}^\top
+J_{l,i} + \lambda D_{l,i})^{-1}`, the reduced system for the shared step is
+
+.. math::
+
+    \Big(\sum_i H_{ss,i} + \lambda D_s - \sum_i H_{sl,i} M_i H_{ls,i}\Big)\,\delta s =
+    -\sum_i \big(g_{s,i} - H_{sl,i} M_i g_{l,i}\big), \qquad
+    \delta l_i = -M_i\,(g_{l,i} + H_{ls,i}\,\delta s)
+
+(H = JᵀJ and g = Jᵀr blocks; λ the Marquardt damping, D the diagonal of H, Marquardt
+1963). One iteration costs one evaluation of every record's residuals and Jacobian blocks
+(the records in chunks, through :func:`pipeline.fit.engine.local_jacobians`, so the
+memory stays that of a chunk) and small dense solves: time and memory linear in the
+records, where a dense Jacobian over all records' samples grows with their square (the
+records' own parameters are columns of it) and its factorisation with their cube.
+
+The covariance is the inverse of the same block matrix at λ = 0, assembled from the blocks
+(the shared block is the inverse of the Schur complement; Golub & Van Loan 2013, §3.2.11),
+scaled by max(1, χ²_ν) as every fit's (:mod:`pipeline.fit.uncertainty`).
+
+References
+----------
+D. W. Marquardt, J. Soc. Ind. Appl. Math. 11:431 (1963), doi:10.1137/0111030.
+G. H. Golub, C. F. Van Loan, *Matrix Computations*, 4th ed., Johns Hopkins (2013).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .engine import local_jacobians
+
+__all__ = ["BlockResult", "solve_blocks"]
+
+#: Records evaluated together: enough to vectorise the tangential solve, few enough to keep
+#: the memory of one chunk's Jacobian blocks small.
+CHUNK = 64
+_TOL = 1e-6
+
+
+@dataclass
+class BlockResult:
+    """What :func:`solve_blocks` found.
+
+    Attributes
+    ----------
+    theta : numpy.ndarray — every global parameter at the optimum
+    chi2 : float
+    residuals : list of numpy.ndarray — each record's weighted residuals there
+    cov : numpy.ndarray — covariance of the varied parameters (θ order), unscaled
+    nfev, njev : int — residual and Jacobian evaluations
+    success : bool; message : str
+    """
+
+    theta: np.ndarray
+    chi2: float
+    residuals: list
+    cov: np.ndarray
+    nfev: int
+    njev: int
+    success: bool
+    message: str
+
+
+def _blocks(design, theta, varied):
+    """(shared, own): the varied global indices every record depends on, and each record's
+    own ones (the same count per record)."""
+    shared = [k for k in design.shared_index() if varied[k]]
+    own = [[k for k in ks if varied[k]] for ks in design.own_index()]
+    return np.array(shared, dtype=int), [np.array(o, dtype=int) for o in own]
+
+
+def _dlocal(design, theta, shared, own, scale):
+    """∂P_i/∂θ for each record's columns (shared, then own), by forward differences of
+    ``design.local`` — every record's own parameters of one kind perturbed at once (each
+    moves only its own record)."""
+    base = design.local(theta[None, :])
+    R, L = len(base), base[0].shape[1]
+    p_o = own[0].size if own else 0
+    D = np.zeros((R, L, shared.size + p_o))
+    for j, k in enumerate(shared):
+        h = 1e-7 * max(abs(theta[k]), scale[k])
+        th = theta.copy()
+        th[k] += h
+        for i, (b, p) in enumerate(zip(base, design.local(th[None, :]), strict=True)):
+            D[i, :, j] = np.where(p[0] == b[0], 0.0, p[0] - b[0]) / h
+    for j in range(p_o):
+        ks = np.array([o[j] for o in own])
+        h = 1e-7 * np.maximum(np.abs(theta[ks]), scale[ks])
+        th = theta.copy()
+        th[ks] += h
+        for i, (b, p) in enumerate(zip(base, design.local(th[None, :]), strict=True)):
+            D[i, :, shared.size + j] = np.where(p[0] == b[0], 0.0, p[0] - b[0]) / h[i]
+    return [b[0] for b in base], D
+
+
+def _evaluate(model, datas, design, theta, shared, own, scale, jacobian):
+    """χ², the residuals per record, and (with ``jacobian``) the normal-equation blocks per
+    record: H_ss (p_s, p_s), H_sl (p_s, p_o), H_ll (p_o, p_o), g_s (p_s), g_l (p_o)."""
+    R = len(datas)
+    if not jacobian:
+        Ps = design.local(theta[None, :])
+        res = []
+        for a in range(0, R, CHUNK):
+            r, _ = model.residuals(datas[a : a + CHUNK], Ps[a : a + CHUNK])
+            res += [x[0] for x in r]
+        return float(sum(float(x @ x) for x in res)), res, None
+    Ps, D = _dlocal(design, theta, shared, own, scale)
+    active = [np.flatnonzero(np.any(D[i] != 0, axis=1)) for i in range(R)]
+    ps = shared.size
+    blocks = {"ss": [], "sl": [], "ll": [], "gs": [], "gl": []}
+    res = []
+    for a in range(0, R, CHUNK):
+        idx = range(a, min(a + CHUNK, R))
+        r, Jl, _ = local_jacobians(
+            model, [datas[i] for i in idx], [Ps[i][None, :] for i in idx], [active[i] for i in idx]
+        )
+        for i, ri, Ji in zip(idx, r, Jl, strict=True):
+            ri = ri[0]
+            J = Ji[0][active[i]].T @ D[i][active[i]]  # (n_i, p_s + p_o)
+            Js, Jo = J[:, :ps], J[:, ps:]
+            blocks["ss"].append(Js.T @ Js)
+            blocks["sl"].append(Js.T @ Jo)
+            blocks["ll"].append(Jo.T @ Jo)
+            blocks["gs"].append(Js.T @ ri)
+            blocks["gl"].append(Jo.T @ ri)
+            res.append(ri)
+    out = {k: np.array(v) for k, v in blocks.items()}
+    return float(sum(float(x @ x) for x in res)), res, out
+
+
+def _inverse(H, lam=0.0):
+    """(H + λ·diag H)⁻¹ of a batch of small symmetric matrices, by the eigenvalues of the
+    matrix scaled to a unit diagonal (parameters of very different units — E* in Pa, e —
+    compare on their own scales); a pseudo-inverse where singular: directions the data
+    leave free get no step and no variance."""
+    d = np.einsum("...ii->...i", H)
+    s = 1.0 / np.sqrt(np.where(d > 0, d, 1.0))
+    A = H * s[..., :, None] * s[..., None, :]
+    A = A + lam * np.eye(H.shape[-1]) * np.where(d > 0, 1.0, 0.0)[..., None, :]
+    w, V = np.linalg.eigh(A)
+    top = np.max(np.abs(w), axis=-1, keepdims=True)
+    good = w > 1e-12 * np.where(top > 0, top, 1.0)
+    inv_w = np.where(good, 1.0 / np.where(good, w, 1.0), 0.0)
+    inv = np.einsum("...ij,...j,...kj->...ik", V, inv_w, V)
+    return inv * s[..., :, None] * s[..., None, :], good.all(axis=-1)
+
+
+def _step(B, lam):
+    """The damped Gauss–Newton step (δs, δl per record) from the blocks (module notes)."""
+    M, _ = _inverse(B["ll"], lam)
+    Hss = B["ss"].sum(0)
+    S = Hss + lam * np.diag(np.diag(Hss)) - np.einsum("rsa,rab,rtb->st", B["sl"], M, B["sl"])
+    b = -(B["gs"].sum(0) - np.einsum("rsa,rab,rb->s", B["sl"], M, B["gl"]))
+    Sinv, _ = _inverse(S[None], 0.0)
+    ds = Sinv[0] @ b
+    dl = -np.einsum("rab,rb->ra", M, B["gl"] + np.einsum("rsa,s->ra", B["sl"], ds))
+    return ds, dl
+
+
+def _covariance(B, shared, own, varied_index):
+    """The covariance of the varied parameters (in ``varied_index`` order) from the blocks
+    at λ = 0 (module notes)."""
+    M, ok = _inverse(B["ll"], 0.0)
+    S = B["ss"].sum(0) - np.einsum("rsa,rab,rtb->st", B["sl"], M, B["sl"])
+    Css = _inverse(S[None], 0.0)[0][0]
+    # C_ls,i = −M_i H_ls,i C_ss; C_ll,ij = δ_ij M_i + M_i H_ls,i C_ss H_sl,j M_j
+    X = np.einsum("rab,rsb->ras", M, B["sl"])  # M_i H_ls,i   (R, p_o, p_s)
+    pos = {k: j for j, k in enumerate(varied_index)}
+    n = len(varied_index)
+    C = np.full((n, n), np.nan)
+    s = [pos[k] for k in shared]
+    C[np.ix_(s, s)] = Css
+    o = np.array([[pos[k] for k in ks] for ks in own], dtype=int)  # (R, p_o)
+    if o.size:
+        Cls = -np.einsum("ras,st->rat", X, Css)  # (R, p_o, p_s)
+        for i in range(o.shape[0]):
+            C[np.ix_(o[i], s)] = Cls[i]
+            C[np.ix_(s, o[i])] = Cls[i].T
+        XC = np.einsum("ras,st->rat", X, Css)
+        cross = np.einsum("rat,qbt->raqb", XC, X)  # (R, p_o, R, p_o)
+        flat = o.reshape(-1)
+        C[np.ix_(flat, flat)] = cross.reshape(flat.size, flat.size)
+        for i in range(o.shape[0]):
+            C[np.ix_(o[i], o[i])] += M[i]
+        bad = ~ok
+        if bad.any():  # a record whose own parameters the data leave free
+            for i in np.flatnonzero(bad):
+                C[o[i], :] = np.nan
+                C[:, o[i]] = np.nan
+    return C
+
+
+def solve_blocks(model, datas, design, theta0, varied, lower, upper, *, max_iter=100):
+    """Levenberg–Marquardt over records with shared and own parameters (module notes).
+
+    Parameters
+    ----------
+    model : ForwardModel
+    datas : list of RecordData
+    design : Design with ``shared_index()`` and ``own_index()`` (the global indices of the
+        shared parameters, and per record those of its own)
+    theta0 : numpy.ndarray — every global parameter's start (fixed ones at their values)
+    varied : sequence of bool — which vary
+    lower, upper : numpy.ndarray — bounds (steps are clipped to them)
+    max_iter : int — most iterations
+
+    Returns
+    -------
+    BlockResult
+    """
+    theta = np.array(theta0, dtype=float)
+    varied = np.asarray(varied, dtype=bool)
+    shared, own = _blocks(design, theta, varied)
+    scale = np.asarray(design.scale, dtype=float)
+    lam = 1e-3
+    chi2, res, B = _evaluate(model, datas, design, theta, shared, own, scale, True)
+    nfev = njev = 1
+    message, success = "the maximum number of iterations was reached", False
+    p_o = own[0].size if own else 0
+    for _ in range(max_iter):
+        ds, dl = _step(B, lam)
+        trial = theta.copy()
+        trial[shared] += ds
+        for i, o in enumerate(own):
+            trial[o] += dl[i] if p_o else 0.0
+        trial = np.clip(trial, lower, upper)
+        chi2_t, res_t, _ = _evaluate(model, datas, design, trial, shared, own, scale, False)
+        nfev += 1
+        if np.isfinite(chi2_t) and chi2_t <= chi2:
+            moved = np.max(np.abs(trial - theta)[varied] / np.maximum(np.abs(theta), scale)[varied])
+            drop = (chi2 - chi2_t) / max(chi2, 1e-300)
+            theta, chi2, res = trial, chi2_t, res_t
+            lam = max(lam / 10.0, 1e-9)
+            chi2, res, B = _evaluate(model, datas, design, theta, shared, own, scale, True)
+            njev += 1
+            if lam <= 1e-3 and (drop < _TOL or moved < _TOL):  # MINPACK's ftol or xtol
+                message, success = "converged: χ² or the parameters no longer move", True
+                break
+        else:
+            if abs(chi2_t - chi2) <= _TOL * chi2:  # at the minimum to within the tolerance
+                message, success = "converged: no step lowers χ² by more than the tolerance", True
+                break
+            lam *= 10.0
+            if lam > 1e10:
+                message, success = "converged: no step lowers χ²", True
+                break
+    varied_index = np.flatnonzero(varied)
+    cov = _covariance(B, shared, own, varied_index)
+    return BlockResult(theta, chi2, res, cov, nfev, njev, success, message)
