@@ -22,9 +22,14 @@ law: b = 0) the likelihood ratio Δχ², scaled by χ²_ν of the larger model w
 with its χ²₁ p-value. The damping hypotheses are not nested (same number of parameters):
 AIC and BIC decide, and ΔAIC > 10 is decisive (Burnham & Anderson 2002).
 
-Starting values come from a fit of each record alone (:func:`pipeline.fit.fit_contact`,
-no bootstrap): E* and ``kt_scale`` their medians, e or α from the records' restitutions, μ
-(or a, b) by weighted least squares on the identifiable μ_i.
+The fit is Levenberg–Marquardt on the Schur complement of the records' own parameters
+(:mod:`pipeline.fit.blocks`): its cost grows linearly with the records (a dense Jacobian
+over all records' samples grows with their square and its factorisation with their cube;
+``solver="dense"`` keeps that path, which gives the same optimum). Starting values come
+from each record's pulse moments (or a fit of each record alone, or the caller's values):
+E* and ``kt_scale`` their medians, e or α from the records' restitutions, μ (or a, b) by
+weighted least squares on the identifiable μ_i; each further hypothesis starts from the
+records' parameters under the one before.
 
 References
 ----------
@@ -479,7 +484,18 @@ def fit_campaign(
         As :func:`pipeline.fit.fit_contact` (``sensor`` and ``noise`` may be lists, one per
         record).
     n_boot, seed : int
-        Block-bootstrap replicates of the joint fit (default 0: covariance intervals).
+        Block-bootstrap replicates of the joint fit (default 0: covariance intervals; the
+        bootstrap needs ``solver="dense"``).
+    solver : {"blocks", "dense"}
+        ``"blocks"`` (default): Levenberg–Marquardt on the Schur complement of the records'
+        own parameters (:mod:`pipeline.fit.blocks`), time and memory linear in the records;
+        ``"dense"``: lmfit on the dense Jacobian over all records (the same optimum, its
+        cost growing with the square of the records and more).
+    starts : {"moments", "fits"} or sequence of mapping
+        Starting values: ``"moments"`` (default) each record's from its pulse's moments
+        (:mod:`pipeline.fit.contact`: E*, e, t0, the Ft/Fn plateau for μ); ``"fits"`` a fit
+        of each record alone; or the caller's, one mapping per record with ``E_eff``,
+        ``e``, ``mu``, ``kt_scale``, ``t0`` (a campaign's per-record fits).
 
     Returns
     -------
@@ -503,7 +519,7 @@ def fit_campaign(
     n_boot = int(opts.pop("n_boot", 0))
     seed = int(opts.pop("seed", 0))
     window_options = opts.pop("window_options", None)
-    starts = opts.pop("starts", None)
+    starts = opts.pop("starts", "moments")
     solver = opts.pop("solver", "blocks")
     if opts:
         raise InputError(f"fit_campaign: unknown option(s) {', '.join(sorted(opts))}")
@@ -550,7 +566,7 @@ def fit_campaign(
     ]
     if starts == "moments":
         singles = [_start(d, model, float(d.scene.speed)) for d in datas]
-    elif starts is None:
+    elif starts == "fits":
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", PipelineWarning)
             singles = [
