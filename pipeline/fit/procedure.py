@@ -88,26 +88,26 @@ def run_fit(model, datas, design, init, vary, notes, *, n_boot=0, seed=0, priors
     problem = Problem(
         model, datas, design, varied, {names.index(n): pr for n, pr in priors.items()}
     )
-    params = lmfit.Parameters()
+    params = lmfit.Parameters()  # the varied ones; the fixed stay in ``base``
     lower = np.full(len(names), -np.inf)
     upper = np.full(len(names), np.inf)
+    base = np.array([float(init[n]) for n in names])
     for i, n in enumerate(names):
         lo, hi = _bounds(base_name(n), init[n], datas[_rec(n, len(datas))])
         lower[i], upper[i] = lo, hi
-        v = float(np.clip(init[n], lo, hi)) if varied[i] else float(init[n])
-        if varied[i] and not (lo < v < hi):  # start strictly inside the bounds
+        if not varied[i]:
+            continue
+        v = float(np.clip(init[n], lo, hi))
+        if not (lo < v < hi):  # start strictly inside the bounds
             v = lo + 1e-6 * (hi - lo) if v <= lo else hi - 1e-6 * (hi - lo)
-        params.add(
-            n,
-            value=v,
-            vary=varied[i],
-            min=lo if varied[i] else -np.inf,
-            max=hi if varied[i] else np.inf,
-        )
-    order = list(names)
+        params.add(n, value=v, min=lo, max=hi)
+    order = [names[i] for i in np.flatnonzero(varied)]
+    where = np.flatnonzero(varied)
 
     def theta_of(p):
-        return np.array([p[n].value for n in order])
+        th = base.copy()
+        th[where] = [p[n].value for n in order]
+        return th
 
     def fcn(p):
         return problem.residual(theta_of(p)).copy()
@@ -130,7 +130,7 @@ def run_fit(model, datas, design, init, vary, notes, *, n_boot=0, seed=0, priors
     vidx = np.flatnonzero(varied)
     # ---- one-sided parameters (μ, kt_scale, a free bandwidth): χ² flat up to 30× the value?
     profiles, lower_only = _one_sided(
-        problem, theta, chi2, redchi, lower, upper, names, vidx, set(priors)
+        problem, theta, chi2, redchi, lower, upper, names, vidx, set(priors), cov
     )
     for nm in lower_only:
         notes.append(_why_lower_only(nm, model))
@@ -257,7 +257,34 @@ def misfit(r, datas, k_free) -> Misfit:
     return Misfit(redchi, float(z), runs, tuple(reasons))
 
 
-def _one_sided(problem, theta, chi2, redchi, lower, upper, names, vidx, constrained=()):
+def _clearly_bounded(problem, theta, names, vidx, cov, limit) -> set:
+    """The one-sided candidates the physics already shows bounded above, so the screen
+    need not push them: μ where a tenth or more of the normal percussion is delivered at
+    the Coulomb cap, ``kt_scale`` where the slip stops and a tenth or more is delivered
+    sticking — each only where its linearised Δχ² at 30× its value (from the covariance)
+    exceeds 100 times the limit, so that a noisy record is still screened. One record's
+    fit only (a campaign's is always screened)."""
+    if cov is None:
+        return set()
+    sols = problem.solution(theta)
+    if len(sols) != 1 or sols[0] is None or getattr(sols[0], "tang", None) is None:
+        return set()
+    tang, k = sols[0].tang, int(sols[0].index[0])
+    share, stops = float(tang.slide_share[k]), bool(tang.slip_stops[k])
+    out = set()
+    for j, i in enumerate(vidx):
+        var = cov[j, j]
+        if not (np.isfinite(var) and var > 0):
+            continue
+        steep = (theta[i] * (_PUSH - 1)) ** 2 / var > 100 * limit
+        if names[i] == "mu" and share >= 0.1 and steep:
+            out.add("mu")
+        if names[i] == "kt_scale" and stops and share <= 0.9 and steep:
+            out.add("kt_scale")
+    return out
+
+
+def _one_sided(problem, theta, chi2, redchi, lower, upper, names, vidx, constrained=(), cov=None):
     """Profiles of μ, kt_scale and a free bandwidth where the data bound them only from
     below (a prior bounds a constrained one on both sides).
 
@@ -267,15 +294,19 @@ def _one_sided(problem, theta, chi2, redchi, lower, upper, names, vidx, constrai
     :mod:`pipeline.fit.uncertainty`).
     """
     one_sided = ("mu", "kt_scale", "bandwidth")
+    scale = max(1.0, redchi)
+    limit = chi2_quantile(0.99) * scale
+    clear = _clearly_bounded(problem, theta, names, vidx, cov, limit)
     cand = [
         i
         for i in vidx
-        if base_name(names[i]) in one_sided and theta[i] > 0 and names[i] not in constrained
+        if base_name(names[i]) in one_sided
+        and theta[i] > 0
+        and names[i] not in constrained
+        and names[i] not in clear
     ]
     if not cand:
         return {}, []
-    scale = max(1.0, redchi)
-    limit = chi2_quantile(0.99) * scale
     top = np.minimum(theta[cand] * _PUSH, upper[cand])
     pushed = np.repeat(theta[None, :], len(cand), axis=0)
     pushed[np.arange(len(cand)), cand] = top
