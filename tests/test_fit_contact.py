@@ -187,6 +187,52 @@ def test_standard_errors_match_the_scatter_of_replicates():
         assert abs(zs.mean()) < 0.75, (k, zs.mean())
 
 
+def test_batched_bootstrap_refits_equal_replicate_by_replicate_refits(noisy):
+    """The bootstrap refits every replicate at once by the linearised step from the optimum
+    (pipeline.fit.uncertainty.block_bootstrap). Twelve of its replicates refitted one at a
+    time, each by lmfit's full Levenberg–Marquardt from the optimum on its own data, land
+    on the same parameters (the replicates move
+    them by about one standard error, where the model is linear to far better than that):
+    the refits agree to 5 % of a standard error (measured: up to 3 %, in kt_scale, the
+    most nonlinear; lmfit's finite-difference Jacobian included) — a percentile interval of
+    200 replicates scatters by ~10 % of its width."""
+    import lmfit
+
+    from pipeline.fit.uncertainty import _circular_blocks
+
+    sc, _, rec = noisy
+    fit = quiet(fit_contact, rec, sc, n_boot=12, seed=3, systematics={}, diagnose=False)
+    prob = fit.problem
+    theta = fit.theta
+    r = prob.residual(theta)
+    # the replicates' data, drawn as block_bootstrap draws them (the same seed and order)
+    rng = np.random.default_rng(3)
+    n = prob.n_data
+    new = np.zeros((12, r.size))
+    start = 0
+    for c in fit.data.channels:
+        seg = r[start : start + c.t.size]
+        new[:, start : start + c.t.size] = _circular_blocks(rng, seg - seg.mean(), 1, 12)
+        start += c.t.size
+    k = prob.vary.size
+    dy = math.sqrt(n / (n - k - fit.n_nuisance)) * new - r[None, :]
+    se = np.sqrt(np.diag(fit.cov))
+    for b in range(12):
+        params = lmfit.Parameters()
+        for j in prob.vary:
+            params.add(fit.names[j], value=theta[j])
+
+        def resid(p, b=b):
+            th = theta.copy()
+            th[prob.vary] = [p[fit.names[j]].value for j in prob.vary]
+            return prob.evaluate(th[None, :])[0][0] + dy[b]
+
+        out = lmfit.minimize(resid, params, method="leastsq", xtol=1e-10, ftol=1e-10)
+        refit = np.array([out.params[fit.names[j]].value for j in prob.vary])
+        moved = (fit.boot[b, prob.vary] - refit) / se
+        assert np.all(np.abs(moved) < 0.05), (b, moved)
+
+
 def test_bootstrap_interval_agrees_with_the_covariance_for_white_noise(noisy):
     """White noise after the filter: block length 1, and the 95 % percentile interval of
     200 refits has the width of the covariance interval within 25 % (the percentile
