@@ -612,8 +612,11 @@ class ForwardModel:
             (t3 - t2) * h,
         )
         series = [pul.f, pul.df]
+        kink = None
         if need_t and sol.tang is not None:
             series += [sol.tang.ft, sol.tang.dft]
+            if sol.tang.kink is not None:  # steps holding a mode switch: linear
+                kink = np.take(sol.tang.kink.reshape(-1), k[:, None] * (n + 1) + j)
         # the series side by side, (S, U·J): one gather per side of a step serves them all
         table = np.stack(series).reshape(len(series), -1)
         flat = k[:, None] * (n + 1) + j
@@ -625,10 +628,15 @@ class ForwardModel:
             g0, g1, g2 = 6 * t2[d] - 6 * th[d], 3 * t2[d] - 4 * th[d] + 1, 3 * t2[d] - 2 * th[d]
         for i in range(0, len(series), 2):
             y0, d0, y1, d1 = a[i], a[i + 1], b[i], b[i + 1]
-            out.append(np.where(inside, h00 * y0 + h10 * d0 + h01 * y1 + h11 * d1, 0.0))
+            y = h00 * y0 + h10 * d0 + h01 * y1 + h11 * d1
+            if i and kink is not None:
+                y = np.where(kink, y0 + th * (y1 - y0), y)
+            out.append(np.where(inside, y, 0.0))
             if nderiv:
-                g = g0 * (y0[d] - y1[d]) / hd + g1 * d0[d]
-                rates.append(np.where(ind, g + g2 * d1[d], 0.0))
+                g = g0 * (y0[d] - y1[d]) / hd + g1 * d0[d] + g2 * d1[d]
+                if i and kink is not None:
+                    g = np.where(kink[d], (y1[d] - y0[d]) / hd, g)
+                rates.append(np.where(ind, g, 0.0))
         out[0] = np.maximum(out[0], 0.0)
         if len(out) == 1:
             out.append(None)

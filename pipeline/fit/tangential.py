@@ -82,6 +82,10 @@ class TangentialResponse:
     slide_share : numpy.ndarray, shape (M,) — share of the normal percussion delivered while
         the Coulomb cap held (μ acts), in [0, 1]
     segments : numpy.ndarray of int, shape (M,) — stick/slide segments
+    kink : numpy.ndarray of bool, shape (M, n + 1) or None — the steps j → j + 1 in which the
+        mode switches (ft has a kink there): interpolated linearly, not by cubic Hermite,
+        so the interpolant moves continuously as a switch crosses a node (the one-sided
+        rates at a node would flip, and with them the cubic, by h·Δft')
     """
 
     p: np.ndarray
@@ -90,6 +94,7 @@ class TangentialResponse:
     slip_stops: np.ndarray
     slide_share: np.ndarray
     segments: np.ndarray
+    kink: np.ndarray | None = None
 
 
 class _Pulse:
@@ -340,6 +345,7 @@ def _mindlin(pulse, s0, lam, mu, kc, history):
         ft=np.zeros((M, J)),
         dft=np.zeros((M, J)),
         slide_pn=np.zeros(M),
+        kink=np.zeros((M, J), dtype=bool),
     )
     segments = np.zeros(M, dtype=int)
     for _ in range(_MAX_SEGMENTS):
@@ -357,7 +363,13 @@ def _mindlin(pulse, s0, lam, mu, kc, history):
         share = np.clip(np.where(pl.pn[:, -1] > 0, st.slide_pn / pl.pn[:, -1], 0.0), 0.0, 1.0)
     slip_stops = np.any(s0[:, None] - lam[:, None] * st.p <= 0, axis=1)
     return TangentialResponse(
-        p=st.p, ft=st.ft, dft=st.dft, slip_stops=slip_stops, slide_share=share, segments=segments
+        p=st.p,
+        ft=st.ft,
+        dft=st.dft,
+        slip_stops=slip_stops,
+        slide_share=share,
+        segments=segments,
+        kink=st.kink,
     )
 
 
@@ -390,6 +402,14 @@ class _State:
     ft: np.ndarray
     dft: np.ndarray
     slide_pn: np.ndarray
+    kink: np.ndarray
+
+    def switch(self, rows, t, h):
+        """Rows ``rows`` switch mode at τ = ``t``: the next segment starts there, and the
+        step holding it is marked as a kink."""
+        self.t_a[rows] = t
+        j = np.minimum((t / h).astype(int), self.kink.shape[1] - 1)
+        self.kink[rows, j] = True
 
 
 def _stick_segment(pl, stick, Phi, r, st):
@@ -437,7 +457,7 @@ def _stick_segment(pl, stick, Phi, r, st):
         a, b = V1[ev, tl], V2[ev, tl]
         xi, s = Mq[0] * a + Mq[1] * b, Mq[2] * a + Mq[3] * b
         st.mode[re] = np.where(stick.force(xi, qg[:, 2], re) >= 0, 1, -1)
-        st.t_a[re] = te[ev]
+        st.switch(re, te[ev], he)
         st.p_a[re] = (st.s0[re] - s) / st.lam[re]
         st.pn_a[re] = 1.0 - u[:, 2]
         done[ev] |= te[ev] >= pl.tau_c[re] * (1 - 1e-12)
@@ -481,6 +501,6 @@ def _slide_segment(pl, stick, r, st):
         st.v1[re] = xi if stick.total else cap
         st.v2[re] = st.s0[re] - st.lam[re] * pr
         st.mode[re] = 0
-        st.t_a[re] = t_r[ev]
+        st.switch(re, t_r[ev], pl.h[re])
     st.slide_pn[R] += pn_b - pn_s
     st.active[r[~has]] = False
