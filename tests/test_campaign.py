@@ -317,6 +317,34 @@ def test_dask_run_is_byte_identical_to_serial(lab, tmp_path):
     assert list(parallel["status"].values) == ["ok", "ok", "failed"]
 
 
+@pytest.mark.slow
+def test_a_campaigns_workers_build_an_outcome_table_once(tmp_path, monkeypatch):
+    """Two workers of a campaign's cluster asking for the same outcome table at once build
+    it once between them — one under the cache file's lock, the other waits and reads it
+    from disk — and this process finds it on disk too (pipeline.simulate.table notes)."""
+    pytest.importorskip("distributed")
+    from distributed import Client
+
+    from pipeline.campaigns.run import local_cluster
+    from pipeline.simulate import table
+
+    monkeypatch.setenv("PIPELINE_CACHE", str(tmp_path))  # the workers inherit it
+    monkeypatch.setattr(table, "_MEMORY", {})
+    key = ("hunt_crossley", 0.3, "total", 0.0, 4.0)
+
+    def build_seconds():
+        from pipeline.simulate.table import outcome_table
+
+        return outcome_table(*key).build_seconds
+
+    with local_cluster(2) as cluster, Client(cluster) as client:
+        seconds = client.run(build_seconds)  # on every worker, at once
+    assert len(seconds) == 2
+    assert sorted(s > 0 for s in seconds.values()) == [False, True]  # one built, one read
+    assert table.outcome_table(*key).build_seconds == 0.0
+    assert len(list(tmp_path.glob("outcome-table-*.npz"))) == 1
+
+
 def test_batched_path_gives_the_same_values_and_comparable_spreads(lab):
     """The batched path's values are analyse's exactly; its bootstrap draws differ, so the
     spreads agree to their own scatter (±5 % for 200 replicates) plus the trapezoid rule's
