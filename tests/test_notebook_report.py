@@ -281,3 +281,17 @@ def test_render_needs_outputs_for_every_code_cell_and_a_cell_for_every_output(tm
     with pytest.raises(ValueError, match=r"no code cell is tagged \['spare'\]"):
         render(TEMPLATES["record"], params, dict.fromkeys(tags, []), tmp_path / "b.ipynb")
     assert not list(tmp_path.iterdir())
+
+
+def test_html_is_nbconverts_own(report, campaign_made):
+    """The HTML of reports made one after another (the exporter remembers the template's
+    highlighted code) is what a fresh nbconvert HTMLExporter makes of each."""
+    from nbconvert import HTMLExporter
+
+    from pipeline.notebook_report import to_html
+
+    for path in (report.ipynb, campaign_made / "gr_30deg_0.3ms.ipynb"):
+        nb = nbformat.read(path, as_version=4)
+        fresh = HTMLExporter(exclude_input_prompt=True, exclude_output_prompt=True)
+        expected, _ = fresh.from_notebook_node(nb)
+        assert to_html(nb) == expected, path
