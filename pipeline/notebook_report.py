@@ -404,14 +404,8 @@ def render_record_report(
     NotebookReport
     """
     record = Path(record).resolve()
-    options = dict(options or {})
-    parameters = {
-        "record": str(record),
-        "scene_json": json.dumps(_json_scene(analysis.scene)) if scene_given else "",
-        "n_boot": int(options.pop("n_boot", 200)),
-        "seed": options.pop("seed", 0),
-        "analyse_options": options,
-    }
+    scene = analysis.scene if scene_given else None
+    parameters = _record_parameters(record, scene, options or {})
     with _gc_paused():
         return render(
             TEMPLATES["record"],
@@ -420,6 +414,19 @@ def render_record_report(
             Path(out_dir) / f"{name or record.stem}.ipynb",
             html=html,
         )
+
+
+def _record_parameters(record: Path, scene, options: dict) -> dict:
+    """The record template's parameters: the file, the scene (None: the sidecar's), and the
+    keyword arguments of :func:`pipeline.analyse` (``n_boot``, ``seed`` and the others)."""
+    options = dict(options)
+    return {
+        "record": str(record),
+        "scene_json": "" if scene is None else json.dumps(_json_scene(scene)),
+        "n_boot": int(options.pop("n_boot", 200)),
+        "seed": options.pop("seed", 0),
+        "analyse_options": options,
+    }
 
 
 @contextlib.contextmanager
@@ -518,11 +525,11 @@ def record_report(
         analysed; with ``kernel=True`` a :class:`NotebookError` naming the failed cell.
     """
     record = Path(record).resolve()
+    options = {"n_boot": int(n_boot), "seed": seed}
     if kernel:
-        scene_json = "" if scene is None else json.dumps(_json_scene(scene))
         return execute(
             TEMPLATES["record"],
-            {"record": str(record), "scene_json": scene_json, "n_boot": int(n_boot), "seed": seed},
+            _record_parameters(record, scene, options),
             Path(out_dir) / f"{name or record.stem}.ipynb",
             html=html,
         )
@@ -545,7 +552,7 @@ def record_report(
         fit,
         out_dir,
         notes=notes,
-        options={"n_boot": int(n_boot), "seed": seed},
+        options=options,
         scene_given=given,
         html=html,
         name=name,
