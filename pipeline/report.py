@@ -39,6 +39,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 
 from . import figures
 from ._atomic import atomic_dir, atomic_write_text, clean_stale
@@ -61,6 +62,7 @@ __all__ = [
     "fitted_parameters",
     "fitted_parameters_md",
     "load_sample",
+    "outcomes_frame",
     "read_sidecar",
     "reproduce",
     "sample_files",
@@ -135,6 +137,24 @@ def findings(a: Analysis) -> Findings:
         + ("**holds**." if three else "**does not hold**.")
     )
     return Findings(bool(one), bool(two), bool(three), (t1, t2, t3))
+
+
+def outcomes_frame(a: Analysis) -> pd.DataFrame:
+    """The measured outcomes of an analysis and their spread, as a record's report shows them.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Index ``quantity``: ``e_n [-]``, ``e_t [-]``, ``omega [rad/s]``,
+        ``rebound_deg [deg]``; columns ``measured`` (the value) and ``std`` (its 1-σ
+        bootstrap spread), in those units.
+    """
+    units = (("e_n", "-"), ("e_t", "-"), ("omega", "rad/s"), ("rebound_deg", "deg"))
+    rows = [
+        {"quantity": f"{k} [{u}]", "measured": a.outcomes.values[k], "std": a.outcomes.std[k]}
+        for k, u in units
+    ]
+    return pd.DataFrame(rows).set_index("quantity")
 
 
 # --------------------------------------------------------------------------- I/O helpers

@@ -307,18 +307,61 @@ def test_table_of_has_one_row_per_record(result):
 
 @pytest.mark.slow
 def test_dask_run_is_byte_identical_to_serial(lab, tmp_path):
-    """Records as tasks on a 2-worker LocalCluster: the same Dataset, byte for byte."""
+    """Records as tasks on a 2-worker LocalCluster: the same Dataset, byte for byte, whether
+    the workers also write the records' reports or not; the reports the workers write are
+    the ones this process writes (tests/test_notebook_report.py compares them)."""
     pytest.importorskip("distributed")
+    import nbformat
+    from test_notebook_report import _assert_same_outputs
+
     folder, _ = lab
     files = [folder / "run0_15deg_0.6ms.csv", folder / "run2_45deg_0.6ms.csv"]
     files.append(folder / "empty_data.csv")
     serial = campaign(files, n_boot=20, fit=False)
-    parallel = campaign(files, n_boot=20, fit=False, workers=2)
+    parallel = campaign(files, n_boot=20, fit=False, workers=2, reports=tmp_path / "dask")
     a, b = tmp_path / "serial.nc", tmp_path / "dask.nc"
     serial.to_netcdf(a, engine="h5netcdf")
     parallel.to_netcdf(b, engine="h5netcdf")
     assert a.read_bytes() == b.read_bytes()
     assert list(parallel["status"].values) == ["ok", "ok", "failed"]
+    campaign(files[:1], n_boot=20, fit=False, reports=tmp_path / "here")
+    names = {p.name for p in (tmp_path / "dask").iterdir()}
+    assert names == {
+        f"run{i}_{d}deg_0.6ms.{x}" for i, d in ((0, 15), (2, 45)) for x in ("ipynb", "html")
+    }
+    report = "run0_15deg_0.6ms.ipynb"
+    _assert_same_outputs(
+        nbformat.read(tmp_path / "here" / report, as_version=4),
+        nbformat.read(tmp_path / "dask" / report, as_version=4),
+    )
+
+
+@pytest.mark.slow
+def test_a_campaigns_workers_build_an_outcome_table_once(tmp_path, monkeypatch):
+    """Two workers of a campaign's cluster asking for the same outcome table at once build
+    it once between them — one under the cache file's lock, the other waits and reads it
+    from disk — and this process finds it on disk too (pipeline.simulate.table notes)."""
+    pytest.importorskip("distributed")
+    from distributed import Client
+
+    from pipeline.campaigns.run import local_cluster
+    from pipeline.simulate import table
+
+    monkeypatch.setenv("PIPELINE_CACHE", str(tmp_path))  # the workers inherit it
+    monkeypatch.setattr(table, "_MEMORY", {})
+    key = ("hunt_crossley", 0.3, "total", 0.0, 4.0)
+
+    def build_seconds():
+        from pipeline.simulate.table import outcome_table
+
+        return outcome_table(*key).build_seconds
+
+    with local_cluster(2) as cluster, Client(cluster) as client:
+        seconds = client.run(build_seconds)  # on every worker, at once
+    assert len(seconds) == 2
+    assert sorted(s > 0 for s in seconds.values()) == [False, True]  # one built, one read
+    assert table.outcome_table(*key).build_seconds == 0.0
+    assert len(list(tmp_path.glob("outcome-table-*.npz"))) == 1
 
 
 def test_batched_path_gives_the_same_values_and_comparable_spreads(lab):

@@ -107,7 +107,7 @@ def test_campaign_command_writes_dataset_figures_and_reports(tmp_path):
         "campaign.ipynb",
         "campaign.html",
     }
-    assert "records: 100%" in err and "reports: 100%" in err  # tqdm bars on request
+    assert "records: 100%" in err and "campaign report: 100%" in err  # tqdm bars on request
 
 
 @pytest.mark.skipif(shutil.which("lmp") is None, reason="LAMMPS (lmp) is not installed")

@@ -1,18 +1,39 @@
-"""Report notebooks: a template with a papermill-style parameters cell, executed headless,
-written as .ipynb and rendered to HTML; a failing cell is an error naming the notebook."""
+"""Report notebooks: a template with a papermill-style parameters cell, written as .ipynb
+and rendered to HTML — its outputs rendered from an analysis already made (the campaign's)
+or executed in a kernel; a failing cell is an error naming the notebook. A rendered report
+states the numbers of the analysis and fit it reports, and running it again in a kernel
+gives the same outputs."""
 
 from __future__ import annotations
 
+import base64
+import copy
+import io
+import re
+import subprocess
 import warnings
 from pathlib import Path
 
 import nbformat
+import numpy as np
 import pytest
 
-from pipeline.notebook_report import TEMPLATES, NotebookError, execute, record_report
+from pipeline import analyse, campaign, fit_contact
+from pipeline.errors import InputError
+from pipeline.notebook_report import (
+    TEMPLATES,
+    NotebookError,
+    ReportWarning,
+    execute,
+    record_report,
+    render,
+)
+from pipeline.report import load_sample, scene_from_sidecar
 
 ROOT = Path(__file__).resolve().parents[1]
 RECORD = ROOT / "data_samples" / "gr_30deg_0.3ms.csv"
+OTHER = ROOT / "data_samples" / "gr_45deg_0.3ms.csv"
+N_BOOT, SEED = 30, 3
 
 
 def _stdout(cell) -> str:
@@ -21,14 +42,12 @@ def _stdout(cell) -> str:
 
 @pytest.fixture(scope="module")
 def report(tmp_path_factory):
-    return record_report(RECORD, tmp_path_factory.mktemp("rep"), n_boot=30, seed=3)
+    return record_report(RECORD, tmp_path_factory.mktemp("rep"), n_boot=N_BOOT, seed=SEED)
 
 
 def test_record_report_states_this_records_numbers(report):
     """The notebook's summary is the library's own for this record and these parameters."""
-    from pipeline import analyse
     from pipeline.io import load
-    from pipeline.report import scene_from_sidecar
 
     nb = nbformat.read(report.ipynb, as_version=4)
     injected = [c for c in nb.cells if "injected-parameters" in c.metadata.get("tags", [])]
@@ -83,3 +102,196 @@ def test_templates_are_percent_scripts_with_a_parameters_cell():
         nb = jupytext.read(path)
         tagged = [c for c in nb.cells if "parameters" in c.metadata.get("tags", [])]
         assert len(tagged) == 1, path
+
+
+# ------------------------------------------------------------------ rendered reports
+_NUMBER = re.compile(r"[-+]?(?:\d+\.\d*|\.\d+|\d+)(?:[eE][-+]?\d+)?")
+
+
+def _unit(printed: str) -> float:
+    """One unit in the last digit of a number as printed ("0.897302" → 1e-6)."""
+    mantissa, _, exponent = printed.lower().partition("e")
+    decimals = len(mantissa.partition(".")[2])
+    return 10.0 ** (int(exponent or 0) - decimals)
+
+
+def _states(printed: str, value: float) -> bool:
+    """``printed`` is ``value`` rounded to its digits: within half a unit of its last one."""
+    return abs(float(printed) - value) <= 0.5 * _unit(printed) + 1e-12 * abs(value)
+
+
+def _same_text(a: str, b: str) -> bool:
+    """The same text, numbers allowed to differ by one unit in their last printed digit
+    (the same value computed again may round the other way)."""
+    na, nb_ = _NUMBER.findall(a), _NUMBER.findall(b)
+    if _NUMBER.split(a) != _NUMBER.split(b) or len(na) != len(nb_):
+        return False
+    return all(
+        abs(float(x) - float(y)) <= max(_unit(x), _unit(y)) * (1 + 1e-9)
+        for x, y in zip(na, nb_, strict=True)
+    )
+
+
+def _png(data: str) -> np.ndarray:
+    from PIL import Image
+
+    return np.asarray(Image.open(io.BytesIO(base64.b64decode(data))).convert("RGB"), float)
+
+
+def _assert_same_outputs(nb, other):
+    """Cell by cell: the same kinds of output, texts alike (:func:`_same_text`), figures of
+    the same size in pixels and alike to well under one grey level on average."""
+    code = [(c, d) for c, d in zip(nb.cells, other.cells, strict=True) if c.cell_type == "code"]
+    assert code
+    for cell, again in code:
+        where = cell.metadata.get("tags", cell.source[:40])
+        assert len(cell.outputs) == len(again.outputs), where
+        for o, p in zip(cell.outputs, again.outputs, strict=True):
+            assert o.output_type == p.output_type, where
+            if o.output_type == "stream":
+                assert o.name == p.name and _same_text(o.text, p.text), (where, o.text, p.text)
+                continue
+            assert set(o.data) == set(p.data), where
+            for mime in o.data:
+                if mime == "image/png":
+                    x, y = _png(o.data[mime]), _png(p.data[mime])
+                    assert x.shape == y.shape, where
+                    assert np.mean(np.abs(x - y)) < 0.5, where
+                else:
+                    assert _same_text(o.data[mime], p.data[mime]), (where, mime)
+
+
+def _outputs(nb, tag) -> str:
+    """Every text a cell shows: its printed lines and its displays' plain text."""
+    (cell,) = [c for c in nb.cells if tag in c.metadata.get("tags", [])]
+    parts = [o.text if o.output_type == "stream" else o.data["text/plain"] for o in cell.outputs]
+    return "\n".join(parts)
+
+
+def _analysis_and_fit(record, **options):
+    """The record analysed and fitted as a user would, independently of any report."""
+    rec, scene = load_sample(record), scene_from_sidecar(record)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return analyse(rec, scene, **options), fit_contact(rec, scene, **options)
+
+
+@pytest.fixture(scope="module")
+def campaign_made(tmp_path_factory):
+    """The report pipeline.campaign writes for RECORD as it analyses and fits it."""
+    folder = tmp_path_factory.mktemp("campaign-reports")
+    campaign([RECORD], n_boot=N_BOOT, seed=SEED, reports=folder)
+    return folder
+
+
+def test_a_campaigns_report_states_the_numbers_of_the_analysis(campaign_made):
+    """The measured outcomes, the deviation score and the fitted E*, e, μ the rendered
+    notebook shows are those pipeline.analyse and pipeline.fit_contact give for the same
+    record, scene and bootstrap, to the digits shown."""
+    nb = nbformat.read(campaign_made / "gr_30deg_0.3ms.ipynb", as_version=4)
+    a, fit = _analysis_and_fit(RECORD, n_boot=N_BOOT, seed=SEED)
+    table = _outputs(nb, "outcomes")
+    rows = re.findall(r"^(e_n|e_t|omega|rebound_deg) \[[^]]*\]\s+(\S+)\s+(\S+)$", table, re.M)
+    assert [r[0] for r in rows] == ["e_n", "e_t", "omega", "rebound_deg"], table
+    for name, value, std in rows:
+        assert _states(value, a.outcomes.values[name]), (name, value)
+        assert _states(std, a.outcomes.std[name]), (name, std)
+    summary = _outputs(nb, "record")
+    scores = re.findall(
+        r"^\s+(total|compression|restitution)\s+area (\S+) ± (\S+), max_distance (\S+) ± (\S+)$",
+        summary,
+        re.M,
+    )
+    assert len(scores) == 3, summary
+    for phase, area, area_std, dist, dist_std in scores:
+        v, s = a.score.values[phase], a.score.std[phase]
+        assert _states(area, v["area"]) and _states(area_std, s["area"]), phase
+        assert _states(dist, v["max_distance"]) and _states(dist_std, s["max_distance"]), phase
+    fitted = dict(
+        (m[0], m[1:])
+        for m in re.findall(r"^ {4}(E_eff|e|mu)\s+= (\S+) ± (\S+)", _outputs(nb, "fit"), re.M)
+    )
+    assert set(fitted) == {"E_eff", "e", "mu"}
+    for name, (value, std) in fitted.items():
+        assert _states(value, fit.values[name]) and _states(std, fit.stderr[name]), name
+
+
+def test_a_rendered_report_run_again_in_a_kernel_gives_the_same_outputs(campaign_made):
+    """The notebook as written (code cells, parameters) recomputes every output the campaign
+    rendered into it: texts, tables and figures."""
+    import nbclient
+
+    nb = nbformat.read(campaign_made / "gr_30deg_0.3ms.ipynb", as_version=4)
+    again = copy.deepcopy(nb)
+    for cell in again.cells:
+        if cell.cell_type == "code":
+            cell.outputs = []
+    nbclient.NotebookClient(
+        again,
+        kernel_name="python3",
+        timeout=None,  # no wall-clock limit: the suite runs on loaded machines
+        startup_timeout=3600,
+        resources={"metadata": {"path": str(campaign_made)}},
+    ).execute(stderr=subprocess.DEVNULL)
+    _assert_same_outputs(nb, again)
+    assert (campaign_made / "gr_30deg_0.3ms.html").is_file()
+
+
+def test_a_batched_campaigns_report_shows_what_running_it_gives(tmp_path):
+    """The batched path draws its bootstrap otherwise (pipeline.campaigns.batch); the report,
+    which recomputes with pipeline.analyse's own, shows analyse's spreads, not the batch's."""
+    ds = campaign([RECORD], n_boot=N_BOOT, seed=SEED, fit=False, batched=True, reports=tmp_path)
+    nb = nbformat.read(tmp_path / "gr_30deg_0.3ms.ipynb", as_version=4)
+    a, _ = _analysis_and_fit(RECORD, n_boot=N_BOOT, seed=SEED)
+    (std,) = re.findall(r"^e_n \[-\]\s+\S+\s+(\S+)$", _outputs(nb, "outcomes"), re.M)
+    assert _states(std, a.outcomes.std["e_n"])
+    assert not _states(std, float(ds["e_n_std"].values[0]))  # the batch's differs
+
+
+def test_a_report_that_fails_is_named_and_the_campaign_goes_on(tmp_path, monkeypatch):
+    """A record whose report cannot be rendered, and one whose report is not where the
+    campaign reads it (as when a worker writes to a disk of its own): each is a
+    ReportWarning naming the record; both records are analysed; the Dataset is the one
+    warnings of the Dataset are the analysis' alone."""
+    from pipeline.campaigns import tasks
+
+    def failing(record, *args, **kwargs):
+        if Path(record).name == RECORD.name:
+            raise InputError("no room for it", path=record)
+
+    monkeypatch.setattr(tasks, "render_record_report", failing)
+    with pytest.warns(ReportWarning) as caught:
+        ds = campaign([RECORD, OTHER], n_boot=0, fit=False, reports=tmp_path)
+    assert list(ds["status"].values) == ["ok", "ok"]
+    messages = sorted(str(w.message) for w in caught if w.category is ReportWarning)
+    assert len(messages) == 2, messages
+    assert messages[0] == f"{RECORD.name}: no report: {RECORD}: no room for it"
+    assert messages[1].startswith(f"{OTHER.name}: its report is not at {tmp_path}")
+    plain = campaign([RECORD, OTHER], n_boot=0, fit=False)
+    assert list(ds["warnings"].values) == list(plain["warnings"].values)
+
+
+def test_render_needs_outputs_for_every_code_cell_and_a_cell_for_every_output(tmp_path):
+    """A template changed without its renderer (or the reverse) is an error, not a report
+    with outputs under the wrong code."""
+    params = {"record": "r.csv", "scene_json": "", "n_boot": 0, "seed": 0}
+    with pytest.raises(ValueError, match="has no rendered outputs"):
+        render(TEMPLATES["record"], params, {"record": []}, tmp_path / "a.ipynb")
+    tags = ("record", "outcomes", "forces", "plane", "findings", "fit", "spare")
+    with pytest.raises(ValueError, match=r"no code cell is tagged \['spare'\]"):
+        render(TEMPLATES["record"], params, dict.fromkeys(tags, []), tmp_path / "b.ipynb")
+    assert not list(tmp_path.iterdir())
+
+
+def test_html_is_nbconverts_own(report, campaign_made):
+    """The HTML of reports made one after another (the exporter remembers the template's
+    highlighted code) is what a fresh nbconvert HTMLExporter makes of each."""
+    from nbconvert import HTMLExporter
+
+    from pipeline.notebook_report import to_html
+
+    for path in (report.ipynb, campaign_made / "gr_30deg_0.3ms.ipynb"):
+        nb = nbformat.read(path, as_version=4)
+        fresh = HTMLExporter(exclude_input_prompt=True, exclude_output_prompt=True)
+        expected, _ = fresh.from_notebook_node(nb)
+        assert to_html(nb) == expected, path

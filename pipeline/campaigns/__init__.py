@@ -31,6 +31,13 @@ with units (``# impact speed [m/s]: 0.6``). The plausibility checks
 (:func:`pipeline.plausibility.check_plausible`) run before the physics, as for ``pipeline
 analyse``.
 
+Reports (``reports=FOLDER``): each analysed record's fit report, a notebook
+(``<stem>.ipynb``, and ``.html``) rendered from the analysis and fit the campaign has just
+made, with the template's code cells that recompute them
+(:mod:`pipeline.notebook_report`), written by whichever process analysed the record. A
+report that cannot be made is a :class:`~pipeline.notebook_report.ReportWarning` naming the
+record; the record stays in the Dataset, which is the same with or without reports.
+
 Scale-out (``docs/cluster.md``): ``workers=N`` runs the records as tasks on a local
 dask.distributed cluster of N single-threaded worker processes, ``scheduler="tcp://..."``
 (or a ``distributed.Client``) on an existing cluster. Each task is a pure function of the
@@ -48,6 +55,7 @@ K. H. Hunt, F. R. E. Crossley, J. Appl. Mech. 42:440 (1975), doi:10.1115/1.34235
 from __future__ import annotations
 
 import inspect
+import warnings
 from collections.abc import Callable
 from pathlib import Path
 
@@ -55,6 +63,7 @@ import xarray as xr
 
 from ..analysis import analyse
 from ..errors import InputError
+from ..notebook_report import ReportWarning
 from .batch import analyse_tasks
 from .dataset import assemble, table_of, trends, with_trends, write_campaign
 from .joint import joint_fit, with_joint_fit
@@ -101,6 +110,8 @@ def campaign(
     scheduler=None,
     batched: bool = False,
     progress: Callable | None = None,
+    reports=None,
+    report_html: bool = True,
     **options,
 ) -> xr.Dataset:
     """Analyse many records into one Dataset (module notes give its layout).
@@ -127,6 +138,12 @@ def campaign(
         (:mod:`pipeline.campaigns.batch`); not with ``workers``/``scheduler``.
     progress : callable, optional
         Called with each :class:`RecordResult` as it completes (the CLI's progress bar).
+    reports : str or os.PathLike, optional
+        Folder to write each analysed record's fit report into (module notes), from the
+        process that analyses it: on a cluster, a folder every worker writes to at the same
+        path. None (default): no reports, at no cost.
+    report_html : bool
+        The reports' HTML beside their notebooks.
     **options
         Keyword arguments of :func:`pipeline.analyse` (``n_boot``, ``seed``, ``degree``,
         ``source``, ...), the same for every record.
@@ -142,21 +159,55 @@ def campaign(
     InputError
         No records, an unreadable table, bad options, an unreachable scheduler. A bad
         record never raises: it is listed with ``status="failed"`` and its ``reason``.
+
+    Warns
+    -----
+    ReportWarning
+        A record's report could not be written, or is not where this process reads it
+        (written on a worker's own disk).
     """
     _check_options(options)
     if batched and (workers or scheduler is not None):
         raise InputError("batched=True runs in this process; leave out workers/scheduler")
-    tasks = plan(paths, scenes=scenes, table=table, fit=fit, **options)
+    tasks = plan(
+        paths,
+        scenes=scenes,
+        table=table,
+        fit=fit,
+        reports=reports,
+        report_html=report_html,
+        **options,
+    )
     if batched:
         results = analyse_tasks(tasks, progress=progress)
     else:
         results = run_tasks(
             tasks, run_record, workers=workers, scheduler=scheduler, progress=progress
         )
+    if reports is not None:
+        _check_reports(tasks, results)
     ds = assemble(tasks, results)
     ds.attrs["source"] = _label(paths)
     ds = with_trends(ds)
     return with_joint_fit(ds, tasks) if fit else ds
+
+
+def _check_reports(tasks, results) -> None:
+    """A :class:`ReportWarning` for each analysed record whose report is missing: one that
+    failed, or one written where this process cannot read it (a worker's own disk)."""
+    for task, r in zip(tasks, results, strict=True):
+        if r.status != "ok":
+            continue
+        path = Path(task.report) / f"{Path(task.name).stem}.ipynb"
+        if r.report_error:
+            warnings.warn(f"{r.name}: no report: {r.report_error}", ReportWarning, stacklevel=3)
+        elif not path.is_file():
+            warnings.warn(
+                f"{r.name}: its report is not at {path}: the worker wrote it on a disk of its "
+                "own; give an output folder on the file system the workers share",
+                ReportWarning,
+                stacklevel=3,
+            )
 
 
 def _label(paths) -> str:

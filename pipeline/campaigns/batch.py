@@ -20,7 +20,9 @@ noise Simpson's weights spread an integral by up to √(10/9) ≈ 1.05 times mor
 batched standard deviations of a Simpson-scored record may come out a few % lower; the
 scatter of a 200-replicate std is itself ±5 %), and the quartic's score (``score_fit``)
 carries none. Records whose channels are not sampled on the percussion grid (digitised)
-take :func:`pipeline.analyse`'s own bootstrap.
+take :func:`pipeline.analyse`'s own bootstrap. A record's report (``reports=``) shows
+:func:`pipeline.analyse`'s own bootstrap too, the one its notebook recomputes: the record is
+analysed again for it.
 """
 
 from __future__ import annotations
@@ -33,7 +35,7 @@ from .. import analysis as _an
 from .. import score as _score
 from ..record import channel
 from ..smooth import noise_level
-from .tasks import RecordResult, RecordTask, _analysis_of, guarded, result_of
+from .tasks import RecordResult, RecordTask, _analysis_of, guarded, result_of, try_report
 
 __all__ = ["analyse_tasks", "CHUNK"]
 
@@ -49,7 +51,7 @@ def analyse_tasks(tasks: list[RecordTask], *, progress=None) -> list[RecordResul
     :func:`~pipeline.campaigns.tasks.run_record` on each task would, failures included.
     """
     results: list[RecordResult | None] = [None] * len(tasks)
-    pending = []  # (index, task, analysis, fitted numbers, warnings, n_boot)
+    pending = []  # (index, task, analysed, warnings, n_boot, report error)
     for i, task in enumerate(tasks):
         value, failed, msgs = guarded(task, _without_bootstrap)
         if failed is not None:
@@ -57,10 +59,13 @@ def analyse_tasks(tasks: list[RecordTask], *, progress=None) -> list[RecordResul
             _tick(progress, failed)
             continue
         done, n_boot = value
+        report_error = try_report(task, done, reanalyse=n_boot > 0)
         if n_boot > 0:
-            pending.append((i, task, done, msgs, n_boot))
+            pending.append(
+                (i, task, dataclasses.replace(done, fit=None), msgs, n_boot, report_error)
+            )
         else:
-            results[i] = result_of(task, done, msgs)
+            results[i] = result_of(task, done, msgs, report_error)
             _tick(progress, results[i])
         if len(pending) == CHUNK:
             _flush(pending, results, progress)
@@ -73,9 +78,9 @@ def _flush(pending, results, progress) -> None:
     """Bootstrap a chunk of analyses together and put their results in place."""
     if not pending:
         return
-    for (k, t, done, msgs, _), boot in zip(pending, _bootstrap(pending), strict=True):
+    for (k, t, done, msgs, _, report_error), boot in zip(pending, _bootstrap(pending), strict=True):
         done = dataclasses.replace(done, analysis=_rescore(done.analysis, boot))
-        results[k] = result_of(t, done, msgs)
+        results[k] = result_of(t, done, msgs, report_error)
         _tick(progress, results[k])
 
 

@@ -5,6 +5,12 @@ picklable :class:`RecordTask` objects; :func:`run_record` analyses one and retur
 :class:`RecordResult` of plain numbers and strings, or the reason it failed — it never
 raises for a bad record, so a campaign lists failures and goes on. Being pure functions of
 the task, they run the same in this process, in a dask worker or on a cluster.
+
+A task that names a report folder (``RecordTask.report``) also writes the record's fit
+report there, rendered from the analysis and fit just made
+(:func:`pipeline.notebook_report.render_record_report`: no kernel, no second analysis),
+where the task runs; a report that fails leaves the record analysed and says why in
+``RecordResult.report_error``.
 """
 
 from __future__ import annotations
@@ -25,6 +31,7 @@ from ..analysis import OUTCOME_UNITS, Analysis, analyse
 from ..errors import InputError, PipelineWarning
 from ..fit import fit_contact
 from ..io import scene_from_metadata
+from ..notebook_report import noted, render_record_report
 from ..report import load_sample, read_sidecar, sample_files, sidecar_path
 from ..scene import Scene
 from ..score import METRICS, PHASES
@@ -65,6 +72,9 @@ class RecordTask:
     repeat : int or None — the table's repeat number, None to number them automatically
     options : dict — keyword arguments of :func:`pipeline.analyse`
     fit : bool — also fit the contact parameters (where :func:`pipeline.fit_contact` exists)
+    report : str or None — folder to write the record's fit report into (``<stem>.ipynb``,
+        read and written by the worker), None for no report
+    report_html : bool — the report's HTML too
     """
 
     name: str
@@ -74,6 +84,8 @@ class RecordTask:
     repeat: int | None = None
     options: dict = field(default_factory=dict)
     fit: bool = True
+    report: str | None = None
+    report_html: bool = True
 
 
 @dataclass(frozen=True)
@@ -88,6 +100,8 @@ class RecordResult:
     numbers : dict — name → float (SI; see the Dataset's variables)
     texts : dict — name → str
     warnings : tuple of str — the library's warnings for this record
+    report_error : str — why the record's report could not be written (``""`` when it
+        was, or was not asked for)
     """
 
     name: str
@@ -96,6 +110,7 @@ class RecordResult:
     numbers: dict = field(default_factory=dict)
     texts: dict = field(default_factory=dict)
     warnings: tuple = ()
+    report_error: str = ""
 
 
 # ------------------------------------------------------------------ which records
@@ -225,7 +240,9 @@ def task_fields(task: RecordTask) -> tuple[dict, list]:
     return fields, sources
 
 
-def plan(paths, *, scenes=None, table=None, fit=True, **options) -> list[RecordTask]:
+def plan(
+    paths, *, scenes=None, table=None, fit=True, reports=None, report_html=True, **options
+) -> list[RecordTask]:
     """The tasks of a campaign: one :class:`RecordTask` per record file.
 
     Parameters are those of :func:`campaign`. Fails early (``InputError``) on what makes the
@@ -246,7 +263,19 @@ def plan(paths, *, scenes=None, table=None, fit=True, **options) -> list[RecordT
         row = dict(rows.get(p.name, rows.get(p.stem)) or {})
         repeat = int(row.pop("repeat")) if "repeat" in row else None
         given = _given(p, scenes)
-        tasks.append(RecordTask(p.name, str(p), given, row or None, repeat, dict(options), fit))
+        tasks.append(
+            RecordTask(
+                p.name,
+                str(p),
+                given,
+                row or None,
+                repeat,
+                dict(options),
+                fit,
+                None if reports is None else str(Path(reports).resolve()),
+                report_html,
+            )
+        )
     return tasks
 
 
@@ -287,7 +316,9 @@ def run_record(task: RecordTask) -> RecordResult:
     reason (:func:`guarded`); warnings of the library are collected in ``warnings``.
     """
     value, failed, msgs = guarded(task, _analysis_of)
-    return failed if failed is not None else result_of(task, value, msgs)
+    if failed is not None:
+        return failed
+    return result_of(task, value, msgs, try_report(task, value))
 
 
 def _task_scene(task: RecordTask, record) -> tuple[Scene, str]:
@@ -315,30 +346,77 @@ def _task_scene(task: RecordTask, record) -> tuple[Scene, str]:
 
 @dataclass(frozen=True, eq=False)
 class Analysed:
-    """One record analysed: the analysis, fitted numbers, where its scene came from."""
+    """One record analysed: the analysis, fitted numbers, where its scene came from, the
+    analysis' warnings (:func:`noted`) and, kept for the record's report only, its contact
+    fit (a few MB)."""
 
     analysis: Analysis
     fitted: dict
     scene_source: str
+    fit: object = None
+    notes: tuple = ()
 
 
 def _analysis_of(task: RecordTask, **override) -> Analysed:
     """The record's :class:`~pipeline.analysis.Analysis` (its plausibility checks first;
     options overridden by ``override``), as ``pipeline analyse`` and ``reproduce`` run it,
-    and its fitted parameters."""
+    and its contact fit."""
     rec = load_sample(task.path)
     scene, source = _task_scene(task, rec)
-    a = analyse(rec, scene, **{**task.options, **override})
-    boot = {k: task.options[k] for k in ("n_boot", "seed") if k in task.options}
-    return Analysed(a, _fit_numbers(rec, scene, **boot) if task.fit else {}, source)
+    a, notes = noted(analyse, rec, scene, **{**task.options, **override})
+    f = fit_contact(rec, scene, **_boot(task)) if task.fit else None
+    fitted = {} if f is None else _fit_numbers(f)
+    return Analysed(a, fitted, source, f if task.report is not None else None, notes)
 
 
-def result_of(task: RecordTask, done: Analysed, msgs=()) -> RecordResult:
-    """The ``ok`` result of a task from its analysis."""
+def _boot(task: RecordTask) -> dict:
+    """The bootstrap options of the task's contact fit: the analysis' ``n_boot``, ``seed``."""
+    return {k: task.options[k] for k in ("n_boot", "seed") if k in task.options}
+
+
+def try_report(task: RecordTask, done: Analysed, *, reanalyse: bool = False) -> str:
+    """Write the record's report when the task asks for one (:func:`write_report`); why it
+    failed, ``""`` if it did not (or none was asked). A failed report leaves the record
+    ``ok``; its warnings are the report's, not the record's."""
+    if task.report is None:
+        return ""
+    _, failed, _ = guarded(task, lambda t: write_report(t, done, reanalyse=reanalyse))
+    return "" if failed is None else failed.reason
+
+
+def write_report(task: RecordTask, done: Analysed, *, reanalyse: bool = False):
+    """Write the record's fit report into ``task.report``, rendered from ``done``: the
+    analysis made with the task's options and its contact fit (made here, for the report
+    alone, when the campaign does not fit).
+
+    ``reanalyse``: analyse the record again first, with :func:`pipeline.analyse`'s own
+    bootstrap — the batched path draws its replicates otherwise, and the notebook must show
+    what running it gives. Returns the :class:`~pipeline.notebook_report.NotebookReport`.
+    """
+    a, notes, fit = done.analysis, done.notes, done.fit
+    rec = load_sample(task.path) if reanalyse or fit is None else None
+    if reanalyse:
+        a, notes = noted(analyse, rec, a.scene, **task.options)
+    if fit is None:
+        fit = fit_contact(rec, a.scene, **_boot(task))
+    return render_record_report(
+        task.path,
+        a,
+        fit,
+        task.report,
+        notes=notes,
+        options=task.options,
+        html=task.report_html,
+        name=Path(task.name).stem,
+    )
+
+
+def result_of(task: RecordTask, done: Analysed, msgs=(), report_error="") -> RecordResult:
+    """The ``ok`` result of a task from its analysis (and its report's error, if any)."""
     numbers, texts = record_numbers(done.analysis)
     numbers.update(done.fitted)
     texts["scene_source"] = done.scene_source
-    return RecordResult(task.name, "ok", "", numbers, texts, tuple(msgs))
+    return RecordResult(task.name, "ok", "", numbers, texts, tuple(msgs), report_error)
 
 
 def record_numbers(a: Analysis) -> tuple[dict, dict]:
@@ -380,15 +458,14 @@ def record_numbers(a: Analysis) -> tuple[dict, dict]:
     return numbers, texts
 
 
-def _fit_numbers(record, scene, **options) -> dict:
-    """Fitted contact parameters of one record.
+def _fit_numbers(f) -> dict:
+    """Fitted contact parameters of one record from its contact fit.
 
     :func:`pipeline.fit_contact` with its default model and the campaign's bootstrap
     (``n_boot``, ``seed``): ``fit_<name>`` and ``fit_<name>_std`` for the names in
     :data:`FIT_PARAMETERS` it reports, ``fit_redchi``, and ``fit_identifiable_<name>``
     (1 or 0: μ of a contact that sticks throughout has only a lower bound).
     """
-    f = fit_contact(record, scene, **options)
     out = {}
     for name in FIT_PARAMETERS:
         if name in f.values:

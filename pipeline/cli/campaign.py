@@ -1,11 +1,12 @@
 """``pipeline campaign DIR|GLOB|FILES --out DIR``: many records into one Dataset and reports.
 
 Writes ``campaign.nc`` (the Dataset of :func:`pipeline.campaign`), ``campaign.csv`` (one row
-per record), the campaign figures, and under ``reports/`` one executed fit-report notebook
-per analysed record (``<record>.ipynb`` and ``.html``) and the campaign's own
-(``campaign.ipynb``, ``.html``), and ``manifest.json``; the folder is staged and swapped in
-whole. A record that fails is listed with its reason; exit status 0 when every record was
-analysed, 1 when some failed (the rest are in the outputs), 2 for bad input.
+per record), the campaign figures, and under ``reports/`` one fit-report notebook per
+analysed record (``<record>.ipynb`` and ``.html``, rendered from the campaign's own analysis
+where the record is analysed) and the campaign's own (``campaign.ipynb``, ``.html``,
+executed), and ``manifest.json``; the folder is staged and swapped in whole. A record that
+fails is listed with its reason; exit status 0 when every record was analysed, 1 when some
+failed (the rest are in the outputs), 2 for bad input.
 """
 
 from __future__ import annotations
@@ -64,7 +65,7 @@ def register(sub) -> None:
         help="analyse in this process with one vectorised bootstrap for all records",
     )
     p.add_argument("--no-fit", action="store_true", help="do not fit contact parameters per record")
-    p.add_argument("--no-reports", action="store_true", help="do not execute the report notebooks")
+    p.add_argument("--no-reports", action="store_true", help="do not write the report notebooks")
     p.add_argument("--no-html", action="store_true", help="write the report notebooks without HTML")
     add_progress(p)
     p.set_defaults(func=run_campaign)
@@ -80,28 +81,31 @@ def run_campaign(args) -> int:
     base = read_scene_fields(args.scene) if args.scene else None
     files = record_files(args.paths)
     options = {"n_boot": args.boot, "seed": args.seed}
-    with log_warnings(), progress_bar(args, total=len(files), desc="records") as bar:
-        ds = campaign(
-            files,
-            scenes=base,
-            table=args.table,
-            fit=not args.no_fit,
-            workers=args.workers,
-            scheduler=args.scheduler,
-            batched=args.batched,
-            progress=lambda r: bar.update(1),
-            **options,
-        )
-    ds.attrs["source"] = " ".join(args.paths)
-    ok = [str(r) for r in ds["record"].values[(ds["status"] == "ok").values]]
-    # the whole folder is staged and swapped in with one rename (as pipeline reproduce)
+    # the whole folder is staged and swapped in with one rename (as pipeline reproduce); the
+    # records' reports are written into it as the records are analysed
     with atomic_dir(args.out) as stage, log_warnings():
+        with progress_bar(args, total=len(files), desc="records") as bar:
+            ds = campaign(
+                files,
+                scenes=base,
+                table=args.table,
+                fit=not args.no_fit,
+                workers=args.workers,
+                scheduler=args.scheduler,
+                batched=args.batched,
+                progress=lambda r: bar.update(1),
+                reports=None if args.no_reports else stage / "reports",
+                report_html=not args.no_html,
+                **options,
+            )
+        ds.attrs["source"] = " ".join(args.paths)
         write_campaign(ds, stage)
         if not args.no_reports:
-            _reports(args, ds, {p.name: p for p in files}, ok, stage)
+            _campaign_report(args, stage)
         write_manifest(stage, paths=list(args.paths), n_boot=args.boot, seed=args.seed)
+    ok = int((ds["status"] == "ok").sum())
     print(
-        f"{len(ok)}/{ds.sizes['record']} records analysed in {time.perf_counter() - t0:.1f} s "
+        f"{ok}/{ds.sizes['record']} records analysed in {time.perf_counter() - t0:.1f} s "
         f"→ {args.out}/"
     )
     for name, status, reason in zip(
@@ -109,50 +113,14 @@ def run_campaign(args) -> int:
     ):
         if status != "ok":
             print(f"  failed: {name}: {reason}")
-    return EXIT_FAILED_RECORDS if len(ok) < ds.sizes["record"] else 0
+    return EXIT_FAILED_RECORDS if ok < ds.sizes["record"] else 0
 
 
-def _reports(args, ds, paths: dict, ok: list, out: Path) -> None:
-    """Execute the per-record reports (with the scenes the campaign used; as many at once
-    as ``--workers``, each in its own kernel) and the campaign's own, with a progress bar."""
-    import asyncio
-    import contextlib
-    import json
-    import threading
-    from concurrent.futures import ThreadPoolExecutor, as_completed
+def _campaign_report(args, out: Path) -> None:
+    """Execute the campaign's own report (one kernel) beside the records' (a progress bar
+    of one)."""
+    from ..notebook_report import campaign_report
 
-    from ..notebook_report import NotebookError, campaign_report, record_report
-    from ..scene import Scene
-
-    reports = out / "reports"
-
-    def one(name):
-        scene = Scene.from_dict(json.loads(str(ds["scene_json"].sel(record=name).values)))
-        try:
-            return record_report(
-                paths[name],
-                reports,
-                scene=scene,
-                n_boot=args.boot,
-                seed=args.seed,
-                html=not args.no_html,
-                name=Path(name).stem,
-            )
-        finally:
-            if threading.current_thread() is not threading.main_thread():
-                # nbclient leaves an event loop open in each thread it ran in
-                with contextlib.suppress(RuntimeError):
-                    asyncio.get_event_loop().close()
-
-    with (
-        progress_bar(args, total=len(ok) + 1, desc="reports") as bar,
-        ThreadPoolExecutor(max_workers=args.workers or 1) as pool,
-    ):
-        for job in as_completed([pool.submit(one, name) for name in ok]):
-            try:
-                job.result()
-            except NotebookError as exc:
-                print(f"  report failed: {exc}")
-            bar.update(1)
-        campaign_report(out / "campaign.nc", reports, html=not args.no_html)
+    with progress_bar(args, total=1, desc="campaign report") as bar:
+        campaign_report(out / "campaign.nc", out / "reports", html=not args.no_html)
         bar.update(1)

@@ -1,7 +1,8 @@
-"""``pipeline report FILE --out DIR``: execute a report notebook, headless, with HTML.
+"""``pipeline report FILE --out DIR``: a report notebook, with HTML.
 
 FILE is a record (its fit report: ``<record>.ipynb`` and ``.html``, the scene from
-``--scene`` or the record's sidecar) or a campaign's ``campaign.nc`` (the campaign report).
+``--scene`` or the record's sidecar; analysed here and rendered, or with ``--kernel``
+executed in a Jupyter kernel) or a campaign's ``campaign.nc`` (the campaign report, executed).
 """
 
 from __future__ import annotations
@@ -15,7 +16,7 @@ from ._options import add_progress, nonneg_int, progress_bar
 def register(sub) -> None:
     p = sub.add_parser(
         "report",
-        help="execute the fit report of a record (or a campaign.nc) as notebook and HTML",
+        help="the fit report of a record (or a campaign.nc) as notebook and HTML",
         description=__doc__.split("\n\n")[1],
     )
     p.add_argument("file", type=Path, help="a record file, or a campaign's campaign.nc")
@@ -30,6 +31,12 @@ def register(sub) -> None:
     p.add_argument("--boot", type=nonneg_int, default=200, help="bootstrap replicates [200]")
     p.add_argument("--seed", type=nonneg_int, default=0, help="bootstrap seed [0]")
     p.add_argument("--no-html", action="store_true", help="write the notebook only")
+    p.add_argument(
+        "--kernel",
+        action="store_true",
+        help="execute a record's notebook in a fresh Jupyter kernel instead of rendering "
+        "it from this process's analysis (the same notebook, seconds slower)",
+    )
     add_progress(p)
     p.set_defaults(func=run)
 
@@ -54,6 +61,7 @@ def run(args) -> int:
                 n_boot=args.boot,
                 seed=args.seed,
                 html=not args.no_html,
+                kernel=args.kernel,
             )
         bar.update(1)
     print(f"{r.ipynb}" + (f"\n{r.html}" if r.html else "") + f"  ({r.seconds:.1f} s)")

@@ -39,14 +39,22 @@ that varies from scene to scene — a material constant ``alpha`` at several spe
 integrated instead.
 
 Built once, cached: a table is built on first use for its key (law, damping parameter,
-history rule, ζ_t, χ), kept in memory and written to a cache folder (``$PIPELINE_CACHE``,
-default ``~/.cache/pipeline``; ``PIPELINE_CACHE=""`` keeps it in memory only). Tables are
-not shipped with the package: the key is continuous (any e, tangential damping, material
-pair or tangential stiffness), and a table takes a fraction of a second to build.
+history rule, ζ_t, χ) — about a second, the first ``impact_outcomes(method="table")`` call
+of a fresh process pays it — kept in memory and written to a cache folder
+(``$PIPELINE_CACHE``, default ``~/.cache/pipeline``; ``PIPELINE_CACHE=""`` keeps it in
+memory only), where every later process reads it in milliseconds. Processes that share the
+folder build a table once between them: the builder holds a lock on
+``outcome-table-<key>.lock`` (POSIX ``flock``) and the others wait for it and read the
+table from disk — a campaign's dask workers, which inherit the folder from the process that
+starts them (on a cluster, point ``PIPELINE_CACHE`` at a shared folder). Where no lock can
+be taken (no ``fcntl``, a read-only folder) each process builds its own. Tables are not
+shipped with the package: the key is continuous (any e, tangential damping, material pair
+or tangential stiffness).
 """
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import io
 import math
@@ -55,6 +63,11 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+
+try:
+    import fcntl
+except ImportError:  # not POSIX: no build lock, each process builds its own tables
+    fcntl = None
 
 from .._atomic import atomic_write_bytes
 from ..errors import InputError
@@ -163,17 +176,34 @@ def outcome_table(law, param, history="total", zeta_t=0.0, chi=5.0) -> OutcomeTa
         return _MEMORY[key]
     folder = _cache_dir()
     path = None if folder is None else folder / f"outcome-table-{key}.npz"
-    table = None if path is None else _read(path, law, param, history, zeta_t, chi)
-    if table is None:
-        table = _build(law, float(param), history, float(zeta_t), float(chi))
-        if path is not None:
-            try:
-                folder.mkdir(parents=True, exist_ok=True)
-                _write(path, table)
-            except OSError:  # a read-only home: keep it in memory
-                pass
+    with _build_lock(path):
+        table = None if path is None else _read(path, law, param, history, zeta_t, chi)
+        if table is None:
+            table = _build(law, float(param), history, float(zeta_t), float(chi))
+            if path is not None:
+                with contextlib.suppress(OSError):  # a read-only home: keep it in memory
+                    _write(path, table)
     _MEMORY[key] = table
     return table
+
+
+@contextlib.contextmanager
+def _build_lock(path):
+    """Hold the lock of one table's cache file while it is read or built (module notes):
+    another process building it makes this one wait, then read it. No lock without a cache
+    file, without ``fcntl`` or where the lock file cannot be made."""
+    if path is None or fcntl is None:
+        yield
+        return
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fh = open(path.with_suffix(".lock"), "a")
+    except OSError:
+        yield
+        return
+    with fh:
+        fcntl.flock(fh, fcntl.LOCK_EX)  # released when the file is closed
+        yield
 
 
 _ARRAYS = ("log_psi", "gamma", "reverses", "holes")

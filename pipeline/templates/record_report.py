@@ -16,9 +16,11 @@
 # # Fit report of one impact record
 #
 # Made by `pipeline report` (or `pipeline campaign`) from the template
-# `pipeline/templates/record_report.py`: every number below is computed here, by the
-# library, from the record named in the parameters cell. Run it again with other
-# parameters to report another record. Theory and conventions: the project's `docs/`
+# `pipeline/templates/record_report.py`: the code cells compute every number below, by the
+# library, from the record named in the parameters cell. The outputs saved with the
+# notebook are those of the same calls, made by the command that wrote it (its analysis of
+# the record, rendered without a kernel); running the notebook recomputes them. Run it with
+# other parameters to report another record. Theory and conventions: the project's `docs/`
 # (Ciornei et al., MATEC Web Conf. 112, 07005, 2017, doi:10.1051/matecconf/201711207005).
 
 # %% tags=["parameters"]
@@ -26,17 +28,19 @@ record = "data_samples/gr_15deg_0.6ms.csv"  # the record file (its sidecar besid
 scene_json = ""  # Scene fields as JSON (SI units); "" = the record's sidecar scene
 n_boot = 200  # bootstrap replicates for the uncertainties
 seed = 0  # bootstrap seed
+analyse_options = {}  # other keyword arguments of pipeline.analyse (degree, source, ...)
 
-# %%
+# %% tags=["record"]
 # %matplotlib inline
+# %config InlineBackend.print_figure_kwargs = {"bbox_inches": None}
+# (the figures are shown whole, as drawn: they lay themselves out)
 import json
 import warnings
 
-import pandas as pd
 from IPython.display import Markdown, display
 
 from pipeline import Scene, analyse, figures, fit_contact
-from pipeline.report import findings, load_sample, scene_from_sidecar
+from pipeline.report import findings, load_sample, outcomes_frame, scene_from_sidecar
 
 rec = load_sample(record)
 scene = Scene.from_dict(json.loads(scene_json)) if scene_json else scene_from_sidecar(record)
@@ -44,7 +48,7 @@ if scene is None:
     raise ValueError(f"{record}: no scene; give scene_json or put a sidecar beside the record")
 with warnings.catch_warnings(record=True) as caught:
     warnings.simplefilter("always")
-    a = analyse(rec, scene, n_boot=n_boot, seed=seed)
+    a = analyse(rec, scene, n_boot=n_boot, seed=seed, **analyse_options)
 display(Markdown(f"## Record `{rec.attrs['source']}`"))
 print(a.describe())
 for w in caught:
@@ -58,28 +62,19 @@ for w in caught:
 # ± is the bootstrap standard deviation (white sensor noise only: cross-talk and baseline
 # errors are not in it).
 
-# %%
-rows = []
-for k, unit in (("e_n", "-"), ("e_t", "-"), ("omega", "rad/s"), ("rebound_deg", "deg")):
-    rows.append(
-        {
-            "quantity": f"{k} [{unit}]",
-            "measured": a.outcomes.values[k],
-            "std": a.outcomes.std[k],
-        }
-    )
-display(pd.DataFrame(rows).set_index("quantity"))
+# %% tags=["outcomes"]
+display(outcomes_frame(a))
 
 # %% [markdown]
 # ## Forces and their polynomial fits (as the seed's Fig. 8)
 
-# %%
+# %% tags=["forces"]
 display(figures.fig8_forces(a))
 
 # %% [markdown]
 # ## Measured Pt(Pn) over the rigid broken line (as the seed's Fig. 9)
 
-# %%
+# %% tags=["plane"]
 display(figures.fig9_percussion_plane(a))
 
 # %% [markdown]
