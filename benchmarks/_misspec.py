@@ -789,9 +789,13 @@ def _experiment(
     r = _rig(rng, x, imp, **(rig(rng, x, imp) if rig else {}))
     t, forces, t0 = measure(imp, r, rng, phase=x["phase"] / r.rate)
     told_scene = _scene(x, speed=x["speed"] * told_speed)
-    stated = {"bandwidth": r.bandwidth, "filter_order": r.filter_order}
-    stated.update(told_rig or {})
-    sensor = {**stated, "bits": r.bits, "full_scale": r.full_scale}
+    sensor = {
+        "bandwidth": r.bandwidth,
+        "filter_order": r.filter_order,
+        "bits": r.bits,
+        "full_scale": r.full_scale,
+        **(told_rig or {}),
+    }
     record = make_record(
         t,
         forces,
