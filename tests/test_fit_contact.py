@@ -290,6 +290,26 @@ def test_sliding_impact_bounds_kt_scale_only_from_below():
     assert fit.physics["regime"] == "sliding"
 
 
+def test_flat_topped_stiffness_gets_its_interval_from_the_profile():
+    """32°, μ = 0.1, just under the sliding bound: the slip stops only as the contact ends,
+    so a range of tangential stiffnesses around the truth gives the same forces — χ² is
+    flat at the optimum (its Jacobian column is zero, the covariance has no variance and
+    every bootstrap refit stays at the start value). The interval comes from the profile
+    instead: it holds the truth with a width, bounded on both sides (stiffer sticks
+    earlier, much softer never holds)."""
+    sc = gr(angle_deg=32.0, mu=0.1)
+    rec = to_sensor(impact(sc, samples=2001), seed=6)
+    fit = quiet(fit_contact, rec, sc, systematics={}, diagnose=False)
+    j = fit.vary.index("kt_scale")
+    jac = fit.problem.jacobian(fit.theta)
+    assert np.abs(jac[:, j]).max() <= 1e-9 * np.abs(jac).max()  # the case this test is about
+    assert "kt_scale" in fit.profiles and "kt_scale" not in fit.one_sided
+    lo, hi = fit.ci()["kt_scale"]
+    assert 0 < lo < 0.9 and 1.1 < hi < 30  # the truth is 1: inside, with room either side
+    assert math.isfinite(fit.stderr["kt_scale"]) and fit.identifiable["kt_scale"]
+    assert fit.values["mu"] == pytest.approx(0.1, rel=0.02)
+
+
 def test_cross_talk_biases_mu_and_is_detected():
     """An Fn → Ft leak of 1 % on μ = 0.13 biases μ by ~8 % when the matrix is not known and
     the inputs are taken as exact; the leak into Fy (2 %) gives it away

@@ -194,4 +194,35 @@ def test_cases_are_reproducible_and_complete(name):
     assert told["scene"].mu is None and told["scene"].e is None
     assert told["scene"].E_eff == pytest.approx(truth["E_eff"], rel=1e-12)
     speed_ratio = told["scene"].speed / truth["speed"]
-    assert abs(speed_ratio - 1) == pytest.approx(0.02 if name == "speed_off" else 0.0, abs=1e-12)
+    want = 0.02 if name == "speed_off" else abs(truth["told_errors"]["speed"])
+    assert abs(speed_ratio - 1) == pytest.approx(want, abs=1e-12)
+
+
+def test_told_inputs_carry_errors_at_the_fitters_default_tolerances():
+    """What the lab tells is off by draws at the standard uncertainties the fitter assumes
+    when told nothing (pipeline.fit.systematics.DEFAULT_SYSTEMATICS): over 400 draws each
+    relative error's standard deviation is its tolerance within the sampling error of a
+    standard deviation (±4/√(2·400) ≈ 14 %)."""
+    from pipeline.fit.systematics import BANDWIDTH_STATED
+    from pipeline.fit.systematics import DEFAULT_SYSTEMATICS as D
+
+    assert M.TOLD_U == {
+        "speed": D["speed"],
+        "mass": D["mass"],
+        "radius": D["radius"],
+        "gain": D["gain_n"],
+        "bandwidth": BANDWIDTH_STATED,
+    }
+    assert D["gain_t"] == D["gain_n"]
+    draws = [M._told("control", s) for s in range(400)]
+    for key in ("speed", "mass", "radius", "bandwidth"):
+        sd = np.std([d[key] for d in draws])
+        assert sd == pytest.approx(M.TOLD_U[key], rel=0.14)
+    sd = np.std([d["gains"] for d in draws])
+    assert sd == pytest.approx(M.TOLD_U["gain"], rel=0.14)
+    res = np.array([d["residual"] for d in draws])
+    assert np.abs(res).max() <= M.CALIBRATION_RESIDUAL and np.all(res[:, [0, 1, 2], [0, 1, 2]] == 0)
+    # the control's record is measured with the drawn gains
+    rec, truth, told = M.CASES["control"].make(5)
+    g = truth["told_errors"]["gains"]
+    assert np.diag(truth["mixing"])[:2] == pytest.approx([1 + g[0], 1 + g[1]], abs=1e-12)

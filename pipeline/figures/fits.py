@@ -103,9 +103,10 @@ def fig_contact_fit(fit) -> Figure:
         title = f"{fit.normal or 'rigid'} + {fit.tangential}"
         v = fit.values
         parts = [f"$E^*$ = {v['E_eff'] / 1e9:.4g} GPa"] if "E_eff" in fit.vary else []
+        ops = {**dict.fromkeys(fit.lower_only, r"\geq"), **dict.fromkeys(fit.upper_only, r"\leq")}
         for name, tex in (("e", "e"), ("mu", r"\mu"), ("kt_scale", r"k_t/k_{Mindlin}")):
             if name in fit.vary:
-                op = r"\geq" if name in fit.lower_only else "="
+                op = ops.get(name, "=")
                 parts.append(f"${tex}$ {op} {v[name]:.4g}".replace(f"$ {op}", f" {op}$"))
         fig.legend(
             loc="outside upper center",

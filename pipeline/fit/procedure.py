@@ -129,11 +129,13 @@ def run_fit(model, datas, design, init, vary, notes, *, n_boot=0, seed=0, priors
     cov = parts.total
     vidx = np.flatnonzero(varied)
     # ---- one-sided parameters (μ, kt_scale, a free bandwidth): χ² flat up to 30× the value?
-    profiles, lower_only = _one_sided(
+    profiles, lower_only, upper_only = _one_sided(
         problem, theta, chi2, redchi, lower, upper, names, vidx, set(priors), cov
     )
     for nm in lower_only:
         notes.append(_why_lower_only(nm, model))
+    for nm in upper_only:
+        notes.append(_why_upper_only(nm))
     # ---- bootstrap
     boot, blocks = None, {}
     if n_boot > 0:
@@ -180,6 +182,7 @@ def run_fit(model, datas, design, init, vary, notes, *, n_boot=0, seed=0, priors
         blocks=blocks,
         profiles=profiles,
         lower_only=tuple(lower_only),
+        upper_only=tuple(upper_only),
         notes=tuple(notes),
         poor=poor,
         misfit=check,
@@ -285,13 +288,23 @@ def _clearly_bounded(problem, theta, names, vidx, cov, limit) -> set:
 
 
 def _one_sided(problem, theta, chi2, redchi, lower, upper, names, vidx, constrained=(), cov=None):
-    """Profiles of μ, kt_scale and a free bandwidth where the data bound them only from
-    below (a prior bounds a constrained one on both sides).
+    """Profiles of μ, kt_scale and a free bandwidth where the data bound them on one side
+    only (a prior bounds a constrained one on both sides).
 
     Screen: each candidate held at 30× its value, the others refitted (all at once); where
     Δχ² stays under χ²₁(0.99) (scaled like the covariance) the parameter has no upper bound
     and its profile below the value gives the one-sided lower bound (module
-    :mod:`pipeline.fit.uncertainty`).
+    :mod:`pipeline.fit.uncertainty`). A candidate bounded above whose χ² is flat at the
+    optimum (its covariance has no finite variance: a tangential spring whose stiffness
+    matters only where a slip would stop, so a range of stiffnesses slides alike) is
+    profiled both ways from a 30th of its value to 30×: where the profile stays under the
+    limit at the bottom, the data bound it only from above; else its profile gives both
+    ends of its interval.
+
+    Returns
+    -------
+    (profiles, lower_only, upper_only) — {name: (grid, Δχ²)} and the two name lists; a
+    profiled parameter in neither list has a two-sided profile interval
     """
     one_sided = ("mu", "kt_scale", "bandwidth")
     scale = max(1.0, redchi)
@@ -306,27 +319,47 @@ def _one_sided(problem, theta, chi2, redchi, lower, upper, names, vidx, constrai
         and names[i] not in clear
     ]
     if not cand:
-        return {}, []
-    top = np.minimum(theta[cand] * _PUSH, upper[cand])
-    pushed = np.repeat(theta[None, :], len(cand), axis=0)
-    pushed[np.arange(len(cand)), cand] = top
-    # χ² at the pushed value with the others held bounds the refitted one from above: below
-    # the limit the parameter is certainly unbounded; far above it, certainly bounded
-    d_top = np.einsum("bn,bn->b", *(2 * (problem.evaluate(pushed)[0],))) - chi2
-    unsure = [j for j, d in enumerate(d_top) if limit <= d < 100 * limit]
-    for j in unsure:
-        i = cand[j]
-        d_top[j] = profile(problem, theta, i, [top[j]], lower=lower, upper=upper, iters=3)[0] - chi2
-    profiles, lower_only = {}, []
-    for i, t, d in zip(cand, top, d_top, strict=True):
+        return {}, [], []
+    d_top = _pushed(problem, theta, chi2, cand, theta[cand] * _PUSH, lower, upper, limit)
+    profiles, lower_only, upper_only = {}, [], []
+    var = {i: cov[j, j] for j, i in enumerate(vidx)} if cov is not None else {}
+    for i, d in zip(cand, d_top, strict=True):
+        if d < limit or (np.isfinite(var.get(i, math.nan)) and var[i] > 0):
+            continue
+        grid = np.clip(theta[i] * np.geomspace(1 / _PUSH, _PUSH, 21), lower[i], upper[i])
+        dd = np.maximum(profile(problem, theta, i, grid, lower=lower, upper=upper) - chi2, 0)
+        if dd[0] < limit:  # flat down to a 30th: bounded only from above
+            profiles[names[i]] = (grid[10:], dd[10:])
+            upper_only.append(names[i])
+        else:
+            profiles[names[i]] = (grid, dd)
+    for i, d in zip(cand, d_top, strict=True):
         if d >= limit:
             continue
+        t = np.minimum(theta[i] * _PUSH, upper[i])
         grid = np.concatenate([theta[i] * np.geomspace(1 / _PUSH, 1, 10), [t]])
         grid = np.clip(grid, max(lower[i], 1e-9), upper[i])
         dd = np.maximum(profile(problem, theta, i, grid[:-1], lower=lower, upper=upper) - chi2, 0)
         profiles[names[i]] = (grid, np.append(dd, max(d, 0.0)))
         lower_only.append(names[i])
-    return profiles, lower_only
+    return profiles, lower_only, upper_only
+
+
+def _pushed(problem, theta, chi2, idx, targets, lower, upper, limit) -> np.ndarray:
+    """Δχ² with parameter ``idx[j]`` held at ``targets[j]`` (clipped to its bounds): χ²
+    with the others held bounds the refitted one from above, so below ``limit`` it
+    certainly stays below, far above it (100×) certainly above; only the cases between
+    are refitted (three iterations of the profile)."""
+    idx = list(idx)
+    targets = np.clip(targets, lower[idx], upper[idx])
+    pushed = np.repeat(theta[None, :], len(idx), axis=0)
+    pushed[np.arange(len(idx)), idx] = targets
+    r = problem.evaluate(pushed)[0]
+    d = np.einsum("bn,bn->b", r, r) - chi2
+    for j in np.flatnonzero((d >= limit) & (d < 100 * limit)):
+        prof = profile(problem, theta, idx[j], [targets[j]], lower=lower, upper=upper, iters=3)
+        d[j] = prof[0] - chi2
+    return d
 
 
 def base_name(name):
@@ -339,6 +372,14 @@ def _rec(name, n_records):
     """Record index of a per-record campaign parameter ``<name>_<i>`` (0 otherwise)."""
     tail = name.rsplit("_", 1)[-1]
     return int(tail) if tail.isdigit() and int(tail) < n_records else 0
+
+
+def _why_upper_only(name) -> str:
+    return (
+        f"{name}: the data bound it only from above — the slip stops (if at all) only where "
+        "the stiffness decides it, so any softer contact, sliding throughout, gives the same "
+        "forces; its value is the one-sided upper bound"
+    )
 
 
 def _why_lower_only(name, model) -> str:

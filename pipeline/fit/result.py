@@ -47,8 +47,10 @@ class FitResult:
     result : lmfit.MinimizerResult
     boot : numpy.ndarray or None — bootstrap refits, shape (n_boot, len(names))
     blocks : dict — block length of each residual series in the bootstrap
-    profiles : dict — {name: (grid, Δχ²)} for the parameters profiled
+    profiles : dict — {name: (grid, Δχ²)} for the parameters profiled: the one-sided ones
+        and those flat at the optimum (their intervals come from the profile)
     lower_only : tuple of str — parameters the data bound only from below
+    upper_only : tuple of str — parameters the data bound only from above
     notes : tuple of str — what the fit assumed, left out or could not determine
     poor : bool — the residuals show structure the model misses (a PoorFitWarning was given)
     cost_s : float — wall time of the fit [s]
@@ -75,6 +77,7 @@ class FitResult:
     blocks: dict = field(default_factory=dict)
     profiles: dict = field(default_factory=dict)
     lower_only: tuple = ()
+    upper_only: tuple = ()
     notes: tuple = ()
     poor: bool = False
     cost_s: float = math.nan
@@ -97,30 +100,57 @@ class FitResult:
         return sum(self.varied)
 
     @property
+    def one_sided(self) -> tuple:
+        """The parameters the data bound on one side only (:attr:`lower_only`,
+        :attr:`upper_only`)."""
+        return self.lower_only + self.upper_only
+
+    @property
     def values(self) -> dict:
-        """{name: value} [SI]; a parameter bounded only from below gives its 95 % lower
-        bound (see :attr:`identifiable`), the optimiser's value is in :attr:`params`."""
+        """{name: value} [SI]; a parameter bounded only from below (above) gives its 95 %
+        lower (upper) bound (see :attr:`identifiable`), the optimiser's value is in
+        :attr:`params`."""
         out = {n: float(v) for n, v in zip(self.names, self.theta, strict=True)}
-        for n in self.lower_only:
-            out[n] = self.ci(0.95)[n][0]
+        if self.one_sided:
+            ci = self.ci(0.95)
+            out.update({n: ci[n][0] for n in self.lower_only})
+            out.update({n: ci[n][1] for n in self.upper_only})
         return out
 
     @property
     def stderr(self) -> dict:
-        """{name: standard error} from the covariance; NaN for fixed parameters and for
-        those the data bound only from below."""
+        """{name: standard error} from the covariance (a parameter flat at the optimum:
+        its 95 % profile interval's half width over 1.96); NaN for fixed parameters and for
+        those the data bound on one side only."""
         out = {n: math.nan for n in self.names}
         for i, n in enumerate(self.vary):
             out[n] = math.sqrt(self.cov[i, i]) if np.isfinite(self.cov[i, i]) else math.nan
-        for n in self.lower_only:
+        out.update(self._profiled_se())
+        for n in self.one_sided:
             out[n] = math.nan
+        return out
+
+    def _profile_interval(self, name, level) -> tuple:
+        """Both ends of a flat-topped parameter's profile interval (Δχ² within z², the
+        covariance's scale)."""
+        grid, d = self.profiles[name]
+        lv, scale = 0.5 + level / 2.0, max(1.0, self.redchi)
+        return one_sided_bound(grid, d, lv, scale), one_sided_bound(grid[::-1], d[::-1], lv, scale)
+
+    def _profiled_se(self) -> dict:
+        z = float(special.ndtri(0.975))
+        out = {}
+        for n in self.profiles:
+            if n not in self.one_sided:
+                lo, hi = self._profile_interval(n, 0.95)
+                out[n] = (hi - lo) / (2 * z)
         return out
 
     @property
     def identifiable(self) -> dict:
-        """{name: bool} for the fitted parameters: False where the data bound it only from
-        below (:attr:`notes` says why)."""
-        return {n: n not in self.lower_only and np.isfinite(self.stderr[n]) for n in self.vary}
+        """{name: bool} for the fitted parameters: False where the data bound it on one
+        side only (:attr:`notes` says why)."""
+        return {n: n not in self.one_sided and np.isfinite(self.stderr[n]) for n in self.vary}
 
     @property
     def redchi(self) -> float:
@@ -143,10 +173,12 @@ class FitResult:
     def _stat_se(self) -> dict:
         """{varied name: the data's standard error} (the covariance's data part)."""
         cov = self.cov if self.cov_stat is None else self.cov_stat
-        return {
+        out = {
             n: math.sqrt(cov[i, i]) if np.isfinite(cov[i, i]) else math.nan
             for i, n in enumerate(self.vary)
         }
+        out.update(self._profiled_se())
+        return out
 
     @property
     def budget(self) -> dict:
@@ -159,7 +191,7 @@ class FitResult:
         :class:`~pipeline.fit.uncertainty.CovarianceParts`); ``model`` the spread between
         the models the data cannot tell apart (:func:`pipeline.fit_contact`); ``total``
         adds them in quadrature (GUM §5.1, uncorrelated inputs), so the terms add up by
-        construction. A parameter bounded only from below has NaN throughout.
+        construction. A parameter bounded on one side only has NaN throughout.
         """
         from .systematics import SYSTEMATICS
 
@@ -182,7 +214,7 @@ class FitResult:
             row["model"] = float(self.model_spread.get(n, 0.0))
             terms = [v for k, v in row.items() if k != "total"]
             row["total"] = math.sqrt(sum(v * v for v in terms))
-            if n in self.lower_only:
+            if n in self.one_sided:
                 row = dict.fromkeys(row, math.nan)
             order = ["stat", *[s for s in SYSTEMATICS if s in row], "model", "total"]
             out[n] = {k: row[k] for k in order if k in row}
@@ -203,7 +235,8 @@ class FitResult:
             model spread of :attr:`budget`, each side in quadrature (a symmetric data
             interval becomes value ± z·total); ``"stat"``: the data's alone.
 
-        A parameter bounded only from below gets (profile lower bound, +inf) either way.
+        A parameter bounded only from below gets (profile lower bound, +inf) either way; one
+        bounded only from above (0, profile upper bound).
         """
         if not 0 < level < 1:
             raise ValueError(f"level must lie in (0, 1), got {level!r}")
@@ -227,16 +260,22 @@ class FitResult:
         for i, n in enumerate(self.names):
             if not self.varied[i]:
                 continue
-            if n in self.lower_only:
+            if n in self.one_sided:
                 grid, d = self.profiles[n]
-                out[n] = (one_sided_bound(grid, d, level, max(1.0, self.redchi)), math.inf)
+                scale = max(1.0, self.redchi)
+                if n in self.lower_only:
+                    out[n] = (one_sided_bound(grid, d, level, scale), math.inf)
+                else:  # the grid runs upwards: the bound is the largest value inside
+                    out[n] = (0.0, one_sided_bound(grid[::-1], d[::-1], level, scale))
                 continue
             if n in self.priors:  # a systematic: its posterior, data and prior together
                 j = self.vary.index(n)
                 lo, hi = normal_interval(float(self.theta[i]), math.sqrt(self.cov[j, j]), level)
                 out[n] = (lo, hi)
                 continue
-            if use_boot:
+            if n in self.profiles:  # flat at the optimum: the bootstrap would not move it
+                lo, hi = self._profile_interval(n, level)
+            elif use_boot:
                 lo, hi = percentile_interval(self.boot[:, i], level)
             else:
                 lo, hi = normal_interval(float(self.theta[i]), se[n], level)
@@ -272,10 +311,11 @@ class FitResult:
             unit = UNITS.get(n.rsplit("_", 1)[0] if n not in UNITS else n, "")
             if n not in self.vary:
                 lines.append(f"    {n:<12s} = {v:.6g} {unit} (fixed)")
-            elif n in self.lower_only:
+            elif n in self.one_sided:
+                op, side = ("≥", "lower") if n in self.lower_only else ("≤", "upper")
                 lines.append(
-                    f"    {n:<12s} ≥ {v:.6g} {unit} (not identifiable: only a lower bound, "
-                    f"{level:.0%})"
+                    f"    {n:<12s} {op} {v:.6g} {unit} (not identifiable: only an {side} bound"
+                    f", {level:.0%})"
                 )
             else:
                 lo, hi = ci[n]

@@ -353,7 +353,9 @@ def select_model(record, scene, *, candidates=None, **options) -> ModelSelection
                 "model": rung,
                 "normal": normal,
                 "parameters": ", ".join(
-                    f"{p}={f.values[p]:.5g}" + ("+" if p in f.lower_only else "") for p in f.vary
+                    f"{p}{'≥' if p in f.lower_only else '≤' if p in f.upper_only else '='}"
+                    f"{f.values[p]:.5g}"
+                    for p in f.vary
                 ),
                 "k": f.nvarys,
                 "chi2": f.chi2,
@@ -431,7 +433,7 @@ def _average(chosen, fits, df, rung) -> AveragedFit:
     own = fits[(rung, chosen.normal if rung != "rigid" else None)]
     values, spread = {}, {}
     for name in chosen.vary:
-        if name in SYSTEMATIC_PARAMS or name in chosen.lower_only:
+        if name in SYSTEMATIC_PARAMS or name in chosen.one_sided:
             continue
         have = {k: f.values[name] for k, f in fits.items() if name in f.values}
         mean = sum(weights[k] * v for k, v in have.items()) / sum(weights[k] for k in have)

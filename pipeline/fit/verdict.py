@@ -130,7 +130,7 @@ def model_spread(fit, fits: dict) -> tuple[dict, dict]:
     own = fits[fit.normal]
     spread = {}
     for name in fit.vary:
-        if name in fit.priors or name in fit.lower_only or name not in own.values:
+        if name in fit.priors or name in fit.one_sided or name not in own.values:
             continue
         v0 = own.values[name]
         s2 = sum(
