@@ -715,7 +715,7 @@ CALIBRATION_RESIDUAL = 0.002
 def _told(case, seed) -> dict:
     """The told values' relative errors (module notes), from their own random stream so
     the experiment's draw does not depend on them: {"speed", "mass", "radius",
-    "bandwidth": told/true − 1, "gains": (Fn, Ft) true gain − 1, "residual": 3×3}."""
+    "bandwidth": told/true − 1, "gains": (Fn, Ft) true gain − 1}."""
     rng = _rng(f"{case}:told", seed)
     z = rng.standard_normal(6)
     u = TOLD_U
@@ -725,7 +725,6 @@ def _told(case, seed) -> dict:
         "radius": u["radius"] * z[2],
         "gains": (u["gain"] * z[3], u["gain"] * z[4]),
         "bandwidth": u["bandwidth"] * z[5],
-        "residual": rng.uniform(-1, 1, (3, 3)) * CALIBRATION_RESIDUAL * (1 - np.eye(3)),
     }
 
 
@@ -778,8 +777,8 @@ def _experiment(
     told_rig : dict — sensor fields the lab states otherwise than true (the told
         cut-off's error is not added to a bandwidth given here)
     told_speed : float — told speed over the true one [-] (default: 1 + its drawn error)
-    told_gains : bool — add the gains' drawn errors and a calibration residual to the
-        mixing matrix (False where the case sets the gains itself)
+    told_gains : bool — apply the gains' drawn errors to the mixing matrix (False where
+        the case sets the gains itself)
     systematics : dict or None — the tolerances the lab states (``told["systematics"]``)
     misspecified : str — what is wrong, in words
 
@@ -816,10 +815,9 @@ def _experiment(
     )
     r = _rig(rng, x, imp, **(rig(rng, x, imp) if rig else {}))
     err = _told(case, seed)
-    told_matrix = r.mixing.copy()
     if told_gains:
         gains = np.diag([1.0 + err["gains"][0], 1.0 + err["gains"][1], 1.0])
-        r = replace(r, mixing=gains @ (r.mixing + err["residual"]))
+        r = replace(r, mixing=gains @ r.mixing)
     if told_speed is None:
         told_speed = 1.0 + err["speed"]
     t, forces, t0 = measure(imp, r, rng, phase=x["phase"] / r.rate)
@@ -860,8 +858,7 @@ def _experiment(
         "bandwidth": r.bandwidth,
         "filter_order": r.filter_order,
         "mixing": r.mixing.tolist(),
-        "told_mixing": told_matrix.tolist(),
-        "told_errors": {k: v for k, v in err.items() if k != "residual"},
+        "told_errors": err,
         "noise": r.noise,
         "noise_kind": r.noise_kind,
         "noise_of_peak": x["noise_frac"],
@@ -889,15 +886,19 @@ def control(seed: int):
     inputs within their default tolerances (module notes); half the seeds with a ±1 %
     cross-talk matrix stated to its calibration residual, half with none stated."""
 
+    stated = []
+
     def rig(rng, x, imp):
         if rng.random() < 0.5:
             return {"mixing": np.eye(3)}
-        return {"mixing": np.eye(3) + rng.uniform(-0.01, 0.01, (3, 3)) * (1 - np.eye(3))}
+        off = 1 - np.eye(3)
+        stated.append(np.eye(3) + rng.uniform(-0.01, 0.01, (3, 3)) * off)
+        residual = rng.uniform(-1, 1, (3, 3)) * CALIBRATION_RESIDUAL * off
+        return {"mixing": stated[0] + residual}
 
     rec, truth, told = _experiment("control", seed, rig=rig)
-    M = np.asarray(truth["told_mixing"])
-    if not np.allclose(M, np.eye(3)):
-        told["sensor"]["crosstalk_matrix"] = M.ravel().tolist()
+    if stated:
+        told["sensor"]["crosstalk_matrix"] = stated[0].ravel().tolist()
     return rec, truth, told
 
 

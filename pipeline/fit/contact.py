@@ -63,7 +63,7 @@ from .pulse import E_MIN, normal_pulse
 from .result import FitResult
 from .systematics import resolve
 from .tangential import tangential_response
-from .verdict import alternative_laws, diagnose, model_spread
+from .verdict import alternative_laws, alternative_orders, diagnose, model_spread
 
 __all__ = ["ContactFit", "fit_contact", "DEFAULT_VARY"]
 
@@ -653,7 +653,8 @@ def effective_variance(data, model, design, kw, time_error=None):
 
 def _diagnosed(fit, record, scene, vary, options, t_begin) -> ContactFit:
     """``fit`` with its model spread and verdict (pipeline.fit.verdict): the other laws'
-    fits, and the filter orders' where the fit is poor."""
+    fits, and the other filter orders' where the filter shapes the pulse (or the fit is
+    poor)."""
     quiet = {k: v for k, v in options.items() if k not in ("n_boot", "seed")}
     m = fit.model
 
@@ -666,13 +667,25 @@ def _diagnosed(fit, record, scene, vary, options, t_begin) -> ContactFit:
             except InputError:
                 return None
 
-    laws = alternative_laws(m.normal)
-    exact = {m.normal: refit(m, systematics={})} if laws else {}
+    laws, spec = alternative_laws(m.normal), fit.data.sensor
+    orders = alternative_orders(fit)
+    own = refit(m, systematics={}) if laws or orders else None
+    exact = {m.normal: own} if laws else {}
     for law in laws:
         exact[law] = refit(ForwardModel(law, m.tangential, m.history, m.n_steps), systematics={})
     exact = {k: f for k, f in exact.items() if f is not None}
     spread, table = model_spread(fit, exact) if m.normal in exact else ({}, {})
-    spec = fit.data.sensor
+    # the filter orders, where the filter shapes the pulse: their spread adds to the laws'
+    by_order = {spec.filter_order: own} if orders else {}
+    for k in orders:
+        by_order[k] = refit(
+            m, systematics={}, sensor=dataclasses.replace(spec, filter_order=k, notes=())
+        )
+    by_order = {k: f for k, f in by_order.items() if f is not None}
+    order_table = {}
+    if spec.filter_order in by_order:
+        extra, order_table = model_spread(fit, by_order, own=spec.filter_order)
+        spread = {n: math.hypot(spread.get(n, 0.0), extra.get(n, 0.0)) for n in spread | extra}
 
     def refit_order(order):
         if not spec.filtered:
@@ -683,7 +696,8 @@ def _diagnosed(fit, record, scene, vary, options, t_begin) -> ContactFit:
         return refit(ForwardModel(law, m.tangential, m.history, m.n_steps))
 
     fit = dataclasses.replace(fit, model_spread=spread, alternatives=table)
-    verdict = diagnose(fit, table, refit_order=refit_order, refit_law=refit_law)
+    verdict = diagnose(fit, table, orders=order_table, refit_order=refit_order, refit_law=refit_law)
+    verdict["filter_orders"] = order_table
     notes = fit.notes + tuple(verdict["messages"].values())
     return dataclasses.replace(
         fit, verdict=verdict, notes=notes, cost_s=time.perf_counter() - t_begin

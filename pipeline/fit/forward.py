@@ -91,6 +91,7 @@ PARAMS = (
     "gain_n",
     "gain_t",
     "leak",
+    "leak_tn",
     "time_base",
     "bandwidth",
 )
@@ -102,6 +103,7 @@ SYSTEMATIC_PARAMS = (
     "gain_n",
     "gain_t",
     "leak",
+    "leak_tn",
     "time_base",
     "bandwidth",
 )
@@ -120,13 +122,14 @@ UNITS = {
     "gain_n": "1",
     "gain_t": "1",
     "leak": "1",
+    "leak_tn": "1",
     "time_base": "1",
     "bandwidth": "Hz",
 }
 _I = {name: i for i, name in enumerate(PARAMS)}
 #: Local parameters whose derivatives the forward model gives in closed form (they scale,
 #: stretch, shift or mix the pulse: no new tangential solution); the others by differences.
-ANALYTIC = ("E_eff", "t0", "mass", "radius", "gain_n", "gain_t", "leak", "time_base")
+ANALYTIC = ("E_eff", "t0", "mass", "radius", "gain_n", "gain_t", "leak", "leak_tn", "time_base")
 
 
 @dataclass(frozen=True, eq=False)
@@ -265,7 +268,7 @@ class RecordData:
         out[_I["mass"]] = float(sc.m)
         out[_I["radius"]] = float(sc.radius)
         out[_I["gain_n"]] = out[_I["gain_t"]] = 1.0
-        out[_I["leak"]] = out[_I["time_base"]] = 0.0
+        out[_I["leak"]] = out[_I["leak_tn"]] = out[_I["time_base"]] = 0.0
         out[_I["bandwidth"]] = float(self.sensor.bandwidth)
         return out
 
@@ -305,6 +308,7 @@ def param_scales(data: RecordData) -> np.ndarray:
             0.01,  # gain_n
             0.01,  # gain_t
             0.001,  # leak
+            0.001,  # leak_tn
             1e-5,  # time_base
             1e4,  # bandwidth [Hz]
         ]
@@ -684,7 +688,7 @@ class ForwardModel:
         for name in names:
             cols = []
             for a in analytic:
-                if a in ("gain_n", "gain_t", "leak"):
+                if a in ("gain_n", "gain_t", "leak", "leak_tn"):
                     cols.append(self._dmix(data.sensor.crosstalk, Pb, fn[b], ft, name, a))
                     continue
                 dn, dt = parts["n"][a], None if parts["t"] is None else parts["t"][a]
@@ -752,16 +756,18 @@ class ForwardModel:
     @staticmethod
     def _mix(C, P, fn, ft, names):
         """The sensor's axes: gains, the known cross-talk matrix C (None: none) and the
-        fitted Fn → Ft leak, ``Ft_meas = g_t·(C10·Fn + C11·Ft + leak·Fn)``,
-        ``Fn_meas = g_n·(C00·Fn + C01·Ft)``."""
+        fitted leaks Fn → Ft and Ft → Fn, ``Ft_meas = g_t·(C10·Fn + C11·Ft + leak·Fn)``,
+        ``Fn_meas = g_n·(C00·Fn + C01·Ft + leak_tn·Ft)``."""
         ft0 = np.zeros_like(fn) if ft is None else ft
         gn = P[: fn.shape[0], _I["gain_n"]][:, None]
         gt = P[: fn.shape[0], _I["gain_t"]][:, None]
         leak = P[: fn.shape[0], _I["leak"]][:, None]
+        leak_tn = P[: fn.shape[0], _I["leak_tn"]][:, None]
         out = []
         for n in names:
             if n == "Fn":
-                out.append(gn * (fn if C is None else C[0, 0] * fn + C[0, 1] * ft0))
+                base = fn if C is None else C[0, 0] * fn + C[0, 1] * ft0
+                out.append(gn * (base + leak_tn * ft0))
             else:
                 base = ft0 if C is None else C[1, 0] * fn + C[1, 1] * ft0
                 out.append(gt * (base + leak * fn))
@@ -769,14 +775,18 @@ class ForwardModel:
 
     @staticmethod
     def _dmix(C, P, fn, ft, name, which):
-        """∂(measured ``name``)/∂(``which`` of gain_n, gain_t, leak) for the columns of P."""
+        """∂(measured ``name``)/∂(``which`` of gain_n, gain_t, leak, leak_tn) for the
+        columns of P."""
         gt = P[:, _I["gain_t"]][:, None]
         ft0 = np.zeros_like(fn) if ft is None else ft[: fn.shape[0]]
         if name == "Fn":
+            if which == "leak_tn":
+                return P[:, _I["gain_n"]][:, None] * ft0
             if which != "gain_n":
                 return np.zeros_like(fn)
-            return fn if C is None else C[0, 0] * fn + C[0, 1] * ft0
-        if which == "gain_n":
+            base = fn if C is None else C[0, 0] * fn + C[0, 1] * ft0
+            return base + P[:, _I["leak_tn"]][:, None] * ft0
+        if which in ("gain_n", "leak_tn"):
             return np.zeros_like(fn)
         if which == "leak":
             return gt * fn

@@ -63,7 +63,7 @@ def _bounds(name, value, data):
         return (value / 3.0, value * 3.0)
     if name in ("gain_n", "gain_t"):
         return (0.5, 2.0)
-    if name == "leak":
+    if name in ("leak", "leak_tn"):
         return (-0.5, 0.5)
     if name == "time_base":
         return (-0.1, 0.1)

@@ -202,7 +202,7 @@ class FitResult:
             stat = {n: (ci[n][1] - ci[n][0]) / (2 * z) for n in self.vary}
         names = list(self.priors)
         by_name = {n: n for n in names}
-        by_name.update({"leak": "crosstalk"})
+        by_name.update({"leak": "crosstalk", "leak_tn": "crosstalk"})
         out = {}
         for i, n in enumerate(self.vary):
             if n in SYSTEMATIC_PARAMS:
@@ -210,7 +210,8 @@ class FitResult:
             row = {"stat": stat[n]}
             for j, pname in enumerate(names):
                 w = 0.0 if self.sys_weights is None else float(self.sys_weights[i, j])
-                row[by_name.get(pname, pname)] = abs(w)
+                key = by_name.get(pname, pname)  # the two leaks: one systematic
+                row[key] = math.hypot(row.get(key, 0.0), w)
             row["model"] = float(self.model_spread.get(n, 0.0))
             terms = [v for k, v in row.items() if k != "total"]
             row["total"] = math.sqrt(sum(v * v for v in terms))

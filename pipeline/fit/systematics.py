@@ -33,10 +33,10 @@ name           parameter, stated value          default u (``systematics=None``)
 ``radius``     ball radius [m], the scene's     0.1 % (measured; enters E* as √R*)
 ``gain_n``     Fn channel's gain, 1             1 % (a charge amplifier's calibration)
 ``gain_t``     Ft channel's gain, 1             1 %
-``crosstalk``  Fn → Ft leak [of Fn], 0          ``"auto"``: with a cross-talk matrix (given,
-                                                or the record decoupled) its residual,
-                                                ±0.2 % → u = 0.2 %/√3; without, a
-                                                tri-axial piezo sensor's specification,
+``crosstalk``  the in-plane leaks, Fn → Ft      ``"auto"``: with a cross-talk matrix (given,
+               (``leak``, of Fn) and Ft → Fn    or the record decoupled) its residual,
+               (``leak_tn``, of Ft), 0; one u   ±0.2 % → u = 0.2 %/√3; without, a
+               for both                         tri-axial piezo sensor's specification,
                                                 ±3 % → u = 3 %/√3 = 1.7 % (a rectangular
                                                 bound, GUM §4.3.7), or Fy's own leak where
                                                 it shows more
@@ -59,6 +59,7 @@ measurement* (GUM), §4.3 (Type B evaluation), §5.1 (combined standard uncertai
 
 from __future__ import annotations
 
+import dataclasses
 import difflib
 import math
 from collections.abc import Mapping
@@ -160,15 +161,16 @@ def resolve(systematics, data, tangential: str) -> tuple[Systematic, ...]:
                     "(u, 'abs'))"
                 )
             found = _auto(name, data)
-            if found is not None:
-                out.append(found)
+        else:
+            sigma, how = _sigma(name, spec, stated, origin)
+            found = None if sigma == 0.0 else Systematic(name, param, stated, sigma, how)
+        if found is None:
             continue
-        sigma, how = _sigma(name, spec, stated, origin)
-        if sigma == 0.0:
-            continue
-        if name == "bandwidth" and (data.fine is None or not math.isfinite(stated)):
+        if name == "bandwidth" and (data.fine is None or not math.isfinite(found.value)):
             continue  # no modelled filter to be uncertain about
-        out.append(Systematic(name, param, stated, sigma, how))
+        out.append(found)
+        if name == "crosstalk":  # the same bound on the leak the other way, Ft → Fn
+            out.append(dataclasses.replace(found, param="leak_tn"))
     return tuple(out)
 
 

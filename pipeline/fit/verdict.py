@@ -12,11 +12,12 @@ cause                 found by                                           warning
                       shapes) fits decisively better: ΔAIC >
                       :data:`AIC_DECISIVE` (Burnham & Anderson 2002)
 ``sensor_filter``     the fitted cut-off lies beyond :data:`PULL_Z`      SensorFilterWarning
-                      standard uncertainties of the stated one; or, the
-                      fit being poor, another filter order fits
-                      decisively better
-``crosstalk``         Fy follows Fn (the axes leak), or the fitted       CrossTalkWarning
-                      Fn → Ft leak lies beyond its stated bound
+                      standard uncertainties of the stated one; or
+                      another Butterworth order fits decisively better
+                      (tried where the filter shapes the pulse, or the
+                      fit is poor)
+``crosstalk``         Fy follows Fn (the axes leak), or a fitted leak    CrossTalkWarning
+                      (Fn → Ft, Ft → Fn) lies beyond its stated bound
 ``coloured_noise``    the noise before the trigger is correlated         ColouredNoiseWarning
                       (:mod:`pipeline.fit.noise`): not a misfit — the
                       fit whitens it — but said
@@ -41,7 +42,10 @@ or a ``crosstalk`` within its allowed bound stands.
 :math:`\sigma_{model}^2 = \sum_k w_k (\hat\theta_k - \hat\theta)^2` — the spread of the
 estimates about the reported one, which widens its interval to the better law's value
 when the data favour that law, and adds little when they clearly favour the law fitted
-(Burnham & Anderson 2002, §4.3.2).
+(Burnham & Anderson 2002, §4.3.2). Where the stated filter shapes the pulse (its cut-off
+within :data:`FILTER_SHAPES` contact frequencies) the Butterworth orders 1–4 are weighed
+the same way, a filter's order being as rarely known as a cut-off is, and their spread
+adds to the laws' in quadrature.
 
 References
 ----------
@@ -72,7 +76,9 @@ __all__ = [
     "PULL_Z",
     "IMPULSE_FLOOR",
     "FAMILY_LAWS",
+    "FILTER_SHAPES",
     "akaike_weights",
+    "alternative_orders",
     "model_spread",
     "diagnose",
 ]
@@ -97,6 +103,9 @@ IMPULSE_FLOOR = 0.005
 #: One law per family of pulse shapes (pipeline.fit.pulse): the alternatives a fit is
 #: compared with.
 FAMILY_LAWS = ("hunt_crossley", "hertz_dashpot", "viscoelastic")
+#: A stated filter shapes the pulse where its cut-off lies within this many contact
+#: frequencies (f_c·t_c): there the other Butterworth orders are fitted too.
+FILTER_SHAPES = 10.0
 #: The causes that mean the model does not describe the record (module notes).
 _FAILURES = ("normal_law", "sensor_filter", "impulse_mismatch", "geometry", "second_impact")
 
@@ -117,17 +126,31 @@ def alternative_laws(normal: str) -> tuple:
     return tuple(law for law in FAMILY_LAWS if shape_of(law) != own)
 
 
-def model_spread(fit, fits: dict) -> tuple[dict, dict]:
-    """(σ_model per fitted contact parameter of ``fit``, the law table) from ``fits``, the
-    same record fitted by each law (the fit's own law among them; module notes). The
-    table: {law: {"aic", "delta_aic", "weight", "values"}}.
+def alternative_orders(fit) -> tuple:
+    """The Butterworth orders a fit's stated filter is compared with: 1–4 but the stated,
+    where the filter shapes the pulse (a stated cut-off within :data:`FILTER_SHAPES`
+    contact frequencies, f_c·t_c ≤ 10: there a 4th-order filter told as 2nd moves E* by
+    several per cent); none where it does not."""
+    spec = fit.data.sensor
+    if not spec.filtered or not math.isfinite(spec.bandwidth):
+        return ()
+    if spec.bandwidth * fit.data.window.duration > FILTER_SHAPES:
+        return ()
+    return tuple(k for k in (1, 2, 3, 4) if k != spec.filter_order)
 
-    The laws are compared with the inputs taken as exact (``systematics={}``): the
-    systematics move every law's estimates alike, and a wrong law's fit would otherwise
+
+def model_spread(fit, fits: dict, own=None) -> tuple[dict, dict]:
+    """(σ_model per fitted contact parameter of ``fit``, the table) from ``fits``, the same
+    record fitted by each model of one kind — each law, or each filter order — keyed by
+    it, the fit's own (``own``, default its law) among them (module notes). The table:
+    {key: {"aic", "delta_aic", "weight", "values"}}.
+
+    The models are compared with the inputs taken as exact (``systematics={}``): the
+    systematics move every model's estimates alike, and a wrong model's fit would otherwise
     spend them on its misfit."""
     weights = akaike_weights({k: f.aic for k, f in fits.items()})
     best = min(f.aic for f in fits.values())
-    own = fits[fit.normal]
+    own = fits[fit.normal if own is None else own]
     spread = {}
     for name in fit.vary:
         if name in fit.priors or name in fit.one_sided or name not in own.values:
@@ -151,13 +174,16 @@ def model_spread(fit, fits: dict) -> tuple[dict, dict]:
     return spread, table
 
 
-def diagnose(fit, table=None, *, refit_order=None, refit_law=None, geometry=None) -> dict:
+def diagnose(
+    fit, table=None, *, orders=None, refit_order=None, refit_law=None, geometry=None
+) -> dict:
     """The verdict of a contact fit (module notes); each cause found is warned about.
 
     Parameters
     ----------
     fit : pipeline.fit.ContactFit
     table : dict, optional — the law table of :func:`model_spread`
+    orders : dict, optional — its table of the filter orders (:func:`alternative_orders`)
     refit_order : callable, optional — ``refit_order(order) -> ContactFit``, the same fit
         with a Butterworth filter of that order (tried when the fit is poor)
     refit_law : callable, optional — ``refit_law(law) -> ContactFit``, the same fit (with
@@ -205,30 +231,29 @@ def diagnose(fit, table=None, *, refit_order=None, refit_law=None, geometry=None
             f"uncertainties from the stated {bw[2]:.4g} Hz: check the amplifier's filter setting",
             SensorFilterWarning,
         )
-    elif refit_order is not None and fit.misfit is not None and not fit.misfit.ok:
-        order = fit.data.sensor.filter_order
-        tried = {k: refit_order(k) for k in (1, 2, 3, 4) if k != order}
-        tried = {k: f for k, f in tried.items() if f is not None}
-        if tried:
-            k, f = min(tried.items(), key=lambda kv: kv[1].aic)
-            if fit.aic - f.aic > AIC_DECISIVE:
-                add(
-                    "sensor_filter",
-                    f"a Butterworth filter of order {k} fits decisively better than the stated "
-                    f"order {order} (ΔAIC = {fit.aic - f.aic:.1f}; E* {f.values['E_eff']:.4g} Pa "
-                    f"against {fit.values['E_eff']:.4g}): check the amplifier's filter",
-                    SensorFilterWarning,
-                )
+    elif (better := _better_order(fit, orders, refit_order)) is not None:
+        k, delta, e_k = better
+        add(
+            "sensor_filter",
+            f"a Butterworth filter of order {k} fits decisively better than the stated order "
+            f"{fit.data.sensor.filter_order} (ΔAIC = {delta:.1f}; E* {e_k:.4g} Pa against "
+            f"{fit.values['E_eff']:.4g}): check the amplifier's filter",
+            SensorFilterWarning,
+        )
     # ---- cross-talk
-    leak = _pull(fit, "leak")
+    pulls = {k: _pull(fit, k) for k in ("leak", "leak_tn")}
+    pulls = {k: p for k, p in pulls.items() if p is not None}
+    worst = max(pulls, key=lambda k: abs(pulls[k][0]), default=None)
+    leak = pulls.get(worst)
     fy = None
     if fit.tangential != "none" and fit.data.sensor.crosstalk is None:
         fy = fy_tracks_fn(fit.data, fit.predicted()[0])
     if leak is not None and abs(leak[0]) > PULL_Z:
+        way = ("Fn → Ft", "Fn") if worst == "leak" else ("Ft → Fn", "Ft")
         add(
             "crosstalk",
-            f"the stick phases put the Fn → Ft leak at {leak[1]:+.2%} of Fn, {leak[0]:+.1f} "
-            f"standard uncertainties beyond the allowed ±{fit.priors['leak'][1]:.2%}: give the "
+            f"the record puts the {way[0]} leak at {leak[1]:+.2%} of {way[1]}, {leak[0]:+.1f} "
+            f"standard uncertainties beyond the allowed ±{fit.priors[worst][1]:.2%}: give the "
             "sensor's cross-talk matrix (sensor={'crosstalk_matrix': ...}) or load the record "
             "decoupled",
             CrossTalkWarning,
@@ -303,6 +328,26 @@ def diagnose(fit, table=None, *, refit_order=None, refit_law=None, geometry=None
         "misfit": misfit,
         "impulse": mismatch,
     }
+
+
+def _better_order(fit, orders, refit_order):
+    """(order, ΔAIC, its E*) of a Butterworth order decisively better than the stated one,
+    or None: from the order table where the filter shapes the pulse, else — the fit being
+    poor — by refitting with each other order."""
+    stated = fit.data.sensor.filter_order
+    if orders:
+        aic = {k: v["aic"] for k, v in orders.items()}
+        e_eff = {k: v["values"].get("E_eff", math.nan) for k, v in orders.items()}
+    elif refit_order is not None and fit.misfit is not None and not fit.misfit.ok:
+        tried = {k: refit_order(k) for k in (1, 2, 3, 4) if k != stated}
+        tried = {k: f for k, f in tried.items() if f is not None}
+        aic = {stated: fit.aic, **{k: f.aic for k, f in tried.items()}}
+        e_eff = {k: f.values["E_eff"] for k, f in tried.items()}
+    else:
+        return None
+    k = min(aic, key=aic.get)
+    delta = aic[stated] - aic[k]
+    return (k, delta, e_eff[k]) if k != stated and delta > AIC_DECISIVE else None
 
 
 def _pull(fit, name):
