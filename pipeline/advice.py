@@ -64,11 +64,13 @@ import numpy as np
 from ._json import json_ready
 from .errors import InputError
 from .scene import Scene
+from .simulate.curved import geometry_error
 
 __all__ = [
     "advice_for",
     "Advice",
     "advise",
+    "geometry_error",
     "LADDER",
     "QUANTITIES",
     "mbf_groups",
@@ -106,6 +108,9 @@ class Advice:
         Rigid theory's regime: ``"sliding"`` (throughout) or ``"sticking"``.
     psi1, chi, eta : float
         Maw–Barber–Fawcett's normalised incidence ψ1, χ and the stiffness ratio η = 2G*/E*.
+    geometry : dict or None
+        On a curved fixed target, :func:`geometry_error`: what the contact normal turning
+        over the cap changes, which every model of the ladder ignores; None on a flat one.
     """
 
     model: str
@@ -118,6 +123,7 @@ class Advice:
     psi1: float
     chi: float
     eta: float
+    geometry: dict | None = None
 
     def summary(self) -> dict:
         """JSON-ready dict (NaN → None, inf → "inf")."""
@@ -133,6 +139,7 @@ class Advice:
                 "psi1": self.psi1,
                 "chi": self.chi,
                 "eta": self.eta,
+                "geometry": self.geometry,
             }
         )
 
@@ -286,6 +293,17 @@ def advise(
 
     rung = next((m for m in LADDER[:2] if worst(m) <= tol), "mindlin")
     reason = _reason(scene, rung, worst, errors, tol, rig, psi1, chi)
+    geometry = None
+    if np.isfinite(float(scene.target_radius)) and np.isinf(float(scene.target_mass)):
+        geometry = geometry_error(scene, tol=tol, normal=normal, rtol=rtol)
+        if geometry["exceeds"]:
+            reason += (
+                f" On this {float(scene.target_radius) * 1e3:.3g} mm cap the contact normal "
+                f"turns by {geometry['theta']:.2g} rad while the ball slides over it; every "
+                f"model here ignores that, and it moves e_n by {geometry['e_n']:.2g} and e_t "
+                f"by {geometry['e_t']:.2g} (beyond tol): take these from "
+                "pipeline.simulate.curved.turning_outcomes."
+            )
     return Advice(
         model=rung,
         normal=None if rung == "rigid" else normal,
@@ -297,6 +315,7 @@ def advise(
         psi1=psi1,
         chi=chi,
         eta=eta,
+        geometry=geometry,
     )
 
 

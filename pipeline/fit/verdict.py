@@ -28,7 +28,7 @@ cause                 found by                                           warning
                       impulse for pulse shape
 ``geometry``          the contact normal turns on a curved target by     GeometryWarning
                       more than the fit's tolerance
-                      (:func:`pipeline.advice.geometry_error`)
+                      (:func:`pipeline.simulate.curved.geometry_error`)
 ``second_impact``     the window saw a later pulse (a rebound strike)    MultipleImpactWarning
                                                                          (by the window)
 ====================  =================================================  =====================
@@ -191,7 +191,7 @@ def diagnose(
         sensor's filter is judged on that law's fit (a wrong law pulls the filter's
         cut-off to hide its misfit)
     geometry : dict, optional — {"e_n": Δ, "e_t": Δ, "tol": τ, "theta": θ} from
-        :func:`pipeline.advice.geometry_error`
+        :func:`pipeline.simulate.curved.geometry_error`
     """
     src = fit.data.record.attrs.get("source", "the record")
     causes, messages = [], {}
@@ -298,7 +298,9 @@ def diagnose(
             f"the contact normal turns by {geometry.get('theta', math.nan):.3g} rad while the "
             f"ball slides over the curved target; ignoring it moves e_n by "
             f"{geometry['e_n']:.2g} and e_t by {geometry['e_t']:.2g}, beyond the "
-            f"{geometry['tol']:.2g} the fit allows",
+            f"{geometry['tol']:.2g} the fit allows: the fitted values are those of a "
+            "contact whose normal stays put (pipeline.simulate.curved.turning_outcomes "
+            "gives the rebound with the turn)",
             GeometryWarning,
         )
     # ---- a second impact (the window has warned)

@@ -1,7 +1,8 @@
 r"""The same impacts run by the DEM code LAMMPS, for cross-checking the simulator.
 
 :func:`run_lammps` writes a LAMMPS input for a set of sphere-on-wall scenes (one particle per
-scene, all hitting the plane z = 0 side by side, gravity off), runs the ``lmp`` executable
+scene, all hitting the plane z = 0 side by side, or each a convex cap of its own whose top
+is at z = 0; gravity off), runs the ``lmp`` executable
 (Debian package ``lammps``, GRANULAR package) in a temporary folder and reads back the
 rebound velocities and spins and the time LAMMPS spent in its time loop. Nothing of LAMMPS
 is shipped or linked: where ``lmp`` is absent, :func:`lammps_version` returns None and
@@ -151,8 +152,11 @@ def run_lammps(
     Parameters
     ----------
     scenes : sequence of Scene
-        Scalar scenes of a sphere on a fixed, rigid, flat wall (target_E = inf,
-        target_mass = inf, target_radius = inf), no spin, no surface speed; 0 < angle < 90°.
+        Scalar scenes of a sphere on a fixed, rigid wall (target_E = inf, target_mass =
+        inf), flat (target_radius = inf) or a convex cap of radius target_radius (each ball
+        on a cap of its own, ``fix wall/gran/region`` on a ``region sphere``: the contact
+        normal turns as the ball slides over it, :mod:`pipeline.simulate.curved`), no
+        spin, no surface speed; 0 < angle < 90°.
     dt : float
         LAMMPS time step [s].
     normal : {"hertz_dashpot_secant", "hertz"}
@@ -187,14 +191,13 @@ def run_lammps(
         if not (
             math.isinf(s.target_E)
             and math.isinf(s.target_mass)
-            and math.isinf(s.target_radius)
             and s.spin == 0
             and s.surface_speed == 0
             and 0 < s.angle_deg < 90
         ):
             raise InputError(
-                "run_lammps takes spheres on a fixed rigid flat wall, without spin, at "
-                "0 < angle < 90 deg"
+                "run_lammps takes spheres on a fixed rigid wall (flat or a cap), without spin, "
+                "at 0 < angle < 90 deg"
             )
         if (s.radius, s.m, s.E, s.nu, s.speed, s.mu, s.e) != (
             s0.radius,
@@ -239,6 +242,9 @@ def run_lammps(
         "",
         *(f"{i + 1} {float(vt[i])!r} 0.0 {float(-vn[i])!r} 0.0 0.0 0.0" for i in range(n)),
     ]
+    caps = np.array([float(s.target_radius) for s in scenes])
+    if np.any(np.isfinite(caps)):  # each ball on a cap of its own, its top at z = 0
+        spacing = 2.0 * (R + float(np.max(np.where(np.isfinite(caps), caps, 0.0)))) + 8.0 * R
     atoms = [
         "Atoms # sphere",
         "",
@@ -249,6 +255,23 @@ def run_lammps(
         ),
     ]
     xmax = n * spacing + 10 * R
+    zlo = -R - 2.0 * float(np.max(np.where(np.isfinite(caps), caps, 0.0)))
+    contact_model = (
+        f"granular {damping} tangential {tmodel} {kt!r} {float(tangential_damping)!r} "
+        f"{float(s0.mu)!r} limit_damping"
+    )
+    if np.all(np.isinf(caps)):
+        walls = [f"fix wall all wall/gran {contact_model} zplane 0.0 NULL"]
+    else:
+        walls = []
+        for i, rc in enumerate(caps.tolist()):
+            if math.isinf(rc):
+                raise InputError("run_lammps: flat and curved targets in one run")
+            walls += [
+                f"group b{i} id {i + 1}",
+                f"region cap{i} sphere {i * spacing!r} 0.0 {-rc!r} {rc!r} side out",
+                f"fix wall{i} b{i} wall/gran/region {contact_model} region cap{i}",
+            ]
     data = "\n".join(
         [
             "impacts (pipeline.simulate.lammps)",
@@ -258,7 +281,7 @@ def run_lammps(
             "",
             f"{-10 * R!r} {xmax!r} xlo xhi",
             f"{-10 * R!r} {10 * R!r} ylo yhi",
-            f"{-R!r} {10 * R!r} zlo zhi",
+            f"{zlo!r} {10 * R!r} zlo zhi",
             "",
             *atoms,
             "",
@@ -276,8 +299,7 @@ def run_lammps(
             "neighbor 0.0 bin",
             "neigh_modify delay 0 every 1 check yes",
             "fix integrate all nve/sphere",
-            f"fix wall all wall/gran granular {damping} tangential {tmodel} {kt!r} "
-            f"{float(tangential_damping)!r} {float(s0.mu)!r} limit_damping zplane 0.0 NULL",
+            *walls,
             f"timestep {dt!r}",
             "thermo_style custom step",
             f"thermo {n_steps}",
