@@ -108,7 +108,8 @@ def ode_fit(record, scene, rtol, *, n_boot=0, seed=0):
 
     data = prepare(record, scene)
     s0 = _start(data, ForwardModel(), float(scene.speed))
-    C = data.sensor.crosstalk
+    C = data.sensor.crosstalk if data.sensor.crosstalk is not None else np.eye(3)
+    grid = data.fine if data.sos is not None else data.channels[0].t
     n0 = data.channels[0].t.size
 
     def model(p):
@@ -116,9 +117,11 @@ def ode_fit(record, scene, rtol, *, n_boot=0, seed=0):
         sc = scene.replace(E=scene.E * k, target_E=scene.target_E * k, e=p["e"], mu=p["mu"])
         sim = impact(sc, normal="hunt_crossley", rtol=rtol, samples=ODE_SAMPLES)
         tt = sim.time.values + p["t0"]
-        fn = np.interp(data.fine, tt, sim.Fn.values, left=0.0, right=0.0)
-        ft = np.interp(data.fine, tt, sim.Ft.values, left=0.0, right=0.0)
+        fn = np.interp(grid, tt, sim.Fn.values, left=0.0, right=0.0)
+        ft = np.interp(grid, tt, sim.Ft.values, left=0.0, right=0.0)
         m = np.stack([C[0, 0] * fn + C[0, 1] * ft, C[1, 0] * fn + C[1, 1] * ft])
+        if data.sos is None:  # an unfiltered sensor: the samples' own grid
+            return m
         return sosfilt(data.sos, m, axis=-1)[:, :: data.oversample]
 
     def residual(params, target):

@@ -17,6 +17,15 @@
     scale^(−1/2).
 ``grazing``
     incidence from near-normal to grazing × μ: rigid vs Mindlin and batch vs single path.
+``curved_target``
+    a fixed rigid convex cap of radius R_cap (10 mm … 1 m) under the ball, × incidence at 2 m/s
+    and × speed at 75° (μ 0.131, e 0.9, the secant Hertz dashpot): |Δe_n| and |Δe_t| on
+    the first contact's frame between the normal turning over the cap
+    (:func:`pipeline.simulate.curved.turning_outcomes`) and the held frame every model of
+    the ladder and the fitter keep, with the tolerance's contour; where LAMMPS (``lmp``)
+    is installed, a few cells replayed there (``fix wall/gran/region`` on a sphere) give
+    both models' distance to it. Silent: a cell beyond the tolerance that
+    :func:`pipeline.advise` does not flag (checked on a coarser grid).
 ``rod_paradox``
     the slender rod of docs/theory.md, Rigid bodies (m = 1 kg, L = 1 m, lower end strikes, v_G =
     (0.3,
@@ -232,11 +241,76 @@ def _rod():
     return out
 
 
+CAPS = np.array([0.01, 0.02, 0.05, 0.1, 0.2, 0.5, 1.0])
+CAP_SPEED = 2.0
+CAP_NORMAL = "hertz_dashpot_secant"  # LAMMPS's law: the replay runs the same contact
+
+
+def _curved():
+    from pipeline.simulate.curved import geometry_error
+    from pipeline.simulate.lammps import lammps_version, run_lammps
+
+    base = BASE.replace(speed=CAP_SPEED, e=0.9, target_E=np.inf)  # rigid, as LAMMPS's wall
+    angles = np.array([5.0, 15.0, 30.0, 45.0, 60.0, 70.0, 75.0, 80.0, 85.0])
+    speeds = np.array([0.3, 0.6, 1.0, 2.0, 3.0, 5.0])
+
+    def grid(scenes):
+        g = [[geometry_error(s, normal=CAP_NORMAL, tol=TOL) for s in row] for row in scenes]
+        return {k: np.array([[d[k] for d in row] for row in g]) for k in ("e_n", "e_t", "theta")}
+
+    by_angle = grid([[base.replace(angle_deg=a, target_radius=r) for a in angles] for r in CAPS])
+    by_speed = grid(
+        [[base.replace(speed=v, angle_deg=75.0, target_radius=r) for v in speeds] for r in CAPS]
+    )
+    # advise on a coarser grid: every cell beyond the tolerance must be named in its reason
+    silent, checked = 0, 0
+    for r in CAPS[::2]:
+        for a in angles[::2]:
+            adv = advise(base.replace(angle_deg=a, target_radius=r), tol=TOL)
+            beyond = max(adv.geometry["e_n"], adv.geometry["e_t"]) > TOL
+            silent += int(beyond and "turning_outcomes" not in adv.reason)
+            checked += 1
+    replay = []
+    if lammps_version() is not None:
+        cells = [(a, r) for a in (45.0, 75.0, 85.0) for r in (0.02, 0.1)]
+        scenes = [base.replace(angle_deg=a, target_radius=r) for a, r in cells]
+        lmp = run_lammps(scenes, dt=1e-8)
+        from pipeline.simulate.curved import turning_outcomes
+
+        for i, (sc, (a, r)) in enumerate(zip(scenes, cells, strict=True)):
+            o = turning_outcomes(sc, CAP_NORMAL)
+            replay.append(
+                {
+                    "angle_deg": a,
+                    "cap_m": r,
+                    "lammps_e_n": float(lmp.e_n[i]),
+                    "turning_minus_lammps_e_n": o["turning"]["e_n"] - float(lmp.e_n[i]),
+                    "held_minus_lammps_e_n": o["fixed"]["e_n"] - float(lmp.e_n[i]),
+                    "turning_minus_lammps_e_t": o["turning"]["e_t"] - float(lmp.e_t[i]),
+                    "held_minus_lammps_e_t": o["fixed"]["e_t"] - float(lmp.e_t[i]),
+                }
+            )
+    return {
+        "x": angles,
+        "y": CAPS,
+        "speeds": speeds,
+        "abs_delta_e_n": by_angle["e_n"],
+        "abs_delta_e_t": by_angle["e_t"],
+        "theta": by_angle["theta"],
+        "abs_delta_e_n_by_speed": by_speed["e_n"],
+        "lammps": replay,
+        "lammps_version": lammps_version(),
+        "advise_checked": checked,
+        "silent": silent,
+    }
+
+
 MAPS = {
     "incidence_mu": _incidence_mu,
     "restitution": _restitution,
     "tangential_stiffness": _stiffness,
     "grazing": _grazing,
+    "curved_target": _curved,
     "rod_paradox": _rod,
 }
 
@@ -450,6 +524,50 @@ def _plot_grazing(m, path):
     _save(fig, path)
 
 
+def _plot_curved(m, path):
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(15.0, 4.6), layout="constrained")
+    axes = fig.subplots(1, 3)
+    xi, yi, si = (np.arange(len(m[k])) for k in ("x", "y", "speeds"))
+    panels = [
+        (axes[0], xi, m["abs_delta_e_n"], "|Δe_n|", m["x"], "incidence α [deg]"),
+        (axes[1], xi, m["abs_delta_e_t"], "|Δe_t|", m["x"], "incidence α [deg]"),
+        (axes[2], si, m["abs_delta_e_n_by_speed"], "|Δe_n| at 75°", m["speeds"], "speed [m/s]"),
+    ]
+    for ax, x, z, label, ticks, xlabel in panels:
+        _logmesh(ax, fig, x, yi, z, f"log10 {label}", vmin=-7, vmax=-1)
+        ax.contour(x, yi, np.log10(np.clip(z, 1e-12, None)), levels=[np.log10(TOL)], colors="w")
+        ax.set_xticks(x, [f"{v:g}" for v in ticks], fontsize=7)
+        ax.set_yticks(yi, [f"{v * 1e3:g}" for v in m["y"]], fontsize=7)
+        ax.set_xlabel(xlabel)
+        ax.set_ylabel("cap radius R_cap [mm]")
+    for row in m["lammps"]:
+        i = int(np.argmin(np.abs(m["x"] - row["angle_deg"])))
+        j = int(np.argmin(np.abs(m["y"] - row["cap_m"])))
+        axes[0].plot(i, j, "o", mfc="none", mec="w", ms=9)
+        axes[0].annotate(
+            f"{row['turning_minus_lammps_e_n']:+.0e}\n{row['held_minus_lammps_e_n']:+.0e}",
+            (i, j + 0.22),
+            fontsize=6,
+            color="w",
+            ha="center",
+        )
+    axes[0].set_title(
+        f"e_n at {CAP_SPEED:g} m/s, turning normal vs held frame (dashed: {TOL:g});\n"
+        "circles: LAMMPS replays, turning − LAMMPS over held − LAMMPS",
+        fontsize=9,
+    )
+    axes[1].set_title("e_t: the same", fontsize=9)
+    axes[2].set_title("grows as v_t² and as t_c/(R + R_cap)", fontsize=9)
+    fig.suptitle(
+        "Physics stability map — a steel ball on a rigid fixed cap (μ 0.131, e 0.9): where "
+        f"holding the first contact's frame fails; advise silent in {m['silent']} of "
+        f"{m['advise_checked']} cells checked"
+    )
+    _save(fig, path)
+
+
 def _plot_rod(m, path):
     from matplotlib.colors import TwoSlopeNorm
     from matplotlib.figure import Figure
@@ -494,6 +612,7 @@ PLOTS = {
     "restitution": _plot_restitution,
     "tangential_stiffness": _plot_stiffness,
     "grazing": _plot_grazing,
+    "curved_target": _plot_curved,
     "rod_paradox": _plot_rod,
 }
 
