@@ -138,3 +138,39 @@ def test_block_solver_is_the_dense_solver(constant_e):
         se = dense.stderr[name]
         assert abs(blocks.values[name] - dense.values[name]) < 0.1 * se, name
         assert blocks.stderr[name] == pytest.approx(se, rel=0.02), name
+
+
+def test_block_covariance_is_the_inverse_of_the_dense_normal_matrix():
+    """The joint fit keeps its covariance as blocks (memory linear in the records): every
+    entry equals the dense (JᵀJ)⁻¹ of the same Jacobian (random blocks: 2 shared and 2 own
+    parameters, 6 records), scaling carries through, and a record whose own columns are
+    zero (the data leave them free) gets NaN rows and columns."""
+    from pipeline.fit.blocks import _covariance
+
+    rng = np.random.default_rng(3)
+    R, ps, po, n = 6, 2, 2, 40
+    Js = [rng.normal(size=(n, ps)) * [1e3, 1.0] for _ in range(R)]
+    Jo = [rng.normal(size=(n, po)) for _ in range(R)]
+    B = {
+        "ss": np.array([a.T @ a for a in Js]),
+        "sl": np.array([a.T @ b for a, b in zip(Js, Jo, strict=True)]),
+        "ll": np.array([b.T @ b for b in Jo]),
+    }
+    shared = np.array([0, 1])
+    own = [np.array([2 + po * r, 3 + po * r]) for r in range(R)]
+    C = _covariance(B, shared, own, np.arange(ps + po * R))
+    J = np.zeros((n * R, ps + po * R))
+    for r in range(R):
+        J[n * r : n * (r + 1), :ps] = Js[r]
+        J[n * r : n * (r + 1), ps + po * r : ps + po * (r + 1)] = Jo[r]
+    dense = np.linalg.inv(J.T @ J)
+    scale = np.sqrt(np.outer(np.diag(dense), np.diag(dense)))
+    np.testing.assert_allclose(np.asarray(C) / scale, dense / scale, atol=1e-9)
+    assert C[5, 0] == pytest.approx(dense[5, 0], rel=1e-8, abs=1e-12 * scale[5, 0])
+    assert (C * 4.0)[3, 3] == pytest.approx(4.0 * dense[3, 3], rel=1e-9)
+    # record 2's own columns all zero: free, NaN; the others stay finite
+    B["ll"][2] = 0.0
+    B["sl"][2] = 0.0
+    C = _covariance(B, shared, own, np.arange(ps + po * R))
+    assert np.isnan(C[6, 6]) and np.isnan(C[6, 0]) and np.isnan(C[2, 7])
+    assert np.isfinite(C[2, 2]) and np.isfinite(C[0, 0])
