@@ -25,13 +25,23 @@ def local_cluster(workers: int):
     of 64 kiB: the bootstrap makes temporaries of a few hundred kB, and handing each back to
     the system and faulting it in again made a record cost ~1.5× as long in a worker as in
     a long-running process (measured: 47 against 32 ms; ``make bench``, ``campaign``).
+
+    The workers' statistical profiler is off: it samples every task's stack every 10 ms
+    and keeps an hour of those trees, and a record's deep stacks (its fit, its report's
+    figures) made each worker grow by ~0.8 MB a record (from 306 MB at 10 records to
+    774 MB at 1,000; ``make bench``, ``campaign_scale``). With it off the workers' memory
+    stays flat in the number of records.
     """
     import dask
     from distributed import LocalCluster
 
     env = dict(dask.config.get("distributed.nanny.pre-spawn-environ", {}))
     env.update(MALLOC_MMAP_THRESHOLD_=32 << 20, MALLOC_TRIM_THRESHOLD_=256 << 20)
-    with dask.config.set({"distributed.nanny.pre-spawn-environ": env}):
+    settings = {
+        "distributed.nanny.pre-spawn-environ": env,
+        "distributed.worker.profile.enabled": False,
+    }
+    with dask.config.set(settings):
         return LocalCluster(
             n_workers=int(workers),
             threads_per_worker=1,
