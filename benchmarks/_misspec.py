@@ -45,9 +45,11 @@ and the friction across it:
     \dot w = \frac{\dot\delta\,w}{r} - \frac{F_t}{m}, \quad
     \dot\theta = \frac{w}{r}, \quad I\dot\omega = -R F_t, \quad s = w + R\omega
 
-(w the centre's speed across the line of centres, s the slip). With
-``turning_normal=False`` (every case but the grazing one) r is held infinite: the contact
-frame stays that of the first touch, as the fitter assumes. A sensor under the target
+(w the centre's speed across the line of centres, s the slip), on every curved target:
+the records are the real motion, whose turn the fitter ignores (its verdict names it where
+it matters). With ``turning_normal=False`` r is held infinite: the contact frame stays
+that of the first touch, as the fitter assumes. The control draws flat targets only, so
+that it is the fitter's model exactly. A sensor under the target
 keeps the axes of the first contact, so it records
 :math:`F_n\cos\theta + F_t\sin\theta` and :math:`-F_n\sin\theta + F_t\cos\theta`.
 
@@ -758,7 +760,7 @@ def _experiment(
     *,
     draw=None,
     normal="hunt_crossley",
-    turning_normal=False,
+    turning_normal=None,
     rig=None,
     told_rig=None,
     told_speed=None,
@@ -773,6 +775,7 @@ def _experiment(
     case : str; seed : int — the random stream (:func:`_rng`)
     draw : dict — constraints for :func:`_draw`
     normal : str — the true normal law; turning_normal : bool — see :func:`impact`
+        (default: on every curved target)
     rig : callable (rng, experiment, Impact) → dict — overrides of :func:`_rig`'s sensor
     told_rig : dict — sensor fields the lab states otherwise than true (the told
         cut-off's error is not added to a bandwidth given here)
@@ -811,7 +814,9 @@ def _experiment(
         x["mu"],
         x["e"],
         normal=normal,
-        turning_normal=turning_normal,
+        turning_normal=math.isfinite(x["target_radius"])
+        if turning_normal is None
+        else turning_normal,
     )
     r = _rig(rng, x, imp, **(rig(rng, x, imp) if rig else {}))
     err = _told(case, seed)
@@ -882,9 +887,10 @@ def _directed(out, sign):
 
 # ---------------------------------------------------------------- case functions
 def control(seed: int):
-    """(a) The fitter's assumptions hold: Hunt–Crossley + Mindlin, white noise, the told
-    inputs within their default tolerances (module notes); half the seeds with a ±1 %
-    cross-talk matrix stated to its calibration residual, half with none stated."""
+    """(a) The fitter's assumptions hold: Hunt–Crossley + Mindlin on a flat target, white
+    noise, the told inputs within their default tolerances (module notes); half the seeds
+    with a ±1 % cross-talk matrix stated to its calibration residual, half with none
+    stated."""
 
     stated = []
 
@@ -896,7 +902,7 @@ def control(seed: int):
         residual = rng.uniform(-1, 1, (3, 3)) * CALIBRATION_RESIDUAL * off
         return {"mixing": stated[0] + residual}
 
-    rec, truth, told = _experiment("control", seed, rig=rig)
+    rec, truth, told = _experiment("control", seed, draw={"curved": 0.0}, rig=rig)
     if stated:
         told["sensor"]["crosstalk_matrix"] = stated[0].ravel().tolist()
     return rec, truth, told

@@ -19,7 +19,9 @@ mu, kt_scale) the suite records
 - **flagged**: the share the fit flags — ``fit.verdict`` where the fitter has one (not ok,
   or any cause), else today's flags: ``fit.poor`` or any warning of the pipeline's
   (PoorFitWarning, CrossTalkWarning, ...);
-- **flagged with the right cause**: ``fit.verdict["causes"]`` meets the case's causes;
+- **flagged with the right cause**: ``fit.verdict["causes"]`` meets the case's causes
+  (on a curved target, whose turning normal every case's record carries, ``"geometry"``
+  too: the record has that misspecification as well);
   without a verdict, today's CrossTalkWarning counts as the cause ``"crosstalk"`` and
   nothing else names a cause (a PoorFitWarning says "the model", not which part of it);
 - **held or flagged right**, the issue's target: ≥ 90 % in every case; on the control,
@@ -178,7 +180,11 @@ def summarise(case: str, rows: list) -> dict:
     n = len(rows)
     ok = [r for r in rows if "failed" not in r]
     flagged = [r["flagged"] for r in ok]
-    named = [bool(right & set(r["causes"])) for r in ok]
+    curved = [math.isfinite(float(r["scene"]["target_radius"])) for r in ok]
+    named = [
+        bool((right | ({"geometry"} if k else set())) & set(r["causes"]))
+        for r, k in zip(ok, curved, strict=True)
+    ]
     out = {
         "replicates": n,
         "failed": n - len(ok),

@@ -655,22 +655,35 @@ def effective_variance(data, model, design, kw, time_error=None):
 def _geometry(fit, scene) -> dict | None:
     """On a curved fixed target, what the contact normal's turn over the cap (which the
     model ignores) moves e_n and e_t by at the fitted e and μ
-    (:func:`pipeline.simulate.curved.geometry_error`), judged against e's standard error
-    (at least 1e-3): a bias of one standard error already pulls a 95 % interval's coverage
-    under 85 %. None on a flat or movable target."""
+    (:func:`pipeline.simulate.curved.geometry_error`), each judged against the uncertainty
+    of the parameter it biases (a bias of one standard error already pulls a 95 %
+    interval's coverage under 85 %): e_n against e's standard error (``tol``), e_t against
+    what μ's relative standard error moves it by — e_t = 1 − (1 + 1/κ)·Pt/(m·v_t0) with
+    Pt ∝ μ while the contact slides, so (1 − e_t)·σ_μ/μ (``tol_t``) — both at least 1e-3.
+    Where μ is bounded only from below (the contact sticks) e_t is not judged: its change
+    then moves the spring's stiffness, which the turn's own curvature term (δ/r) rivals.
+    None on a flat or movable target.
+    """
     if math.isinf(float(scene.target_radius)) or math.isfinite(float(scene.target_mass)):
         return None
-    v = fit.values
+    v, se = fit.values, fit.stderr
     e = v.get("e", fit.physics.get("e_n", math.nan))
     mu = v.get("mu", math.nan)
     if not (0.0 < e <= 1.0 and mu >= 0.0):
         return None
-    tol = max(1e-3, fit.stderr.get("e", math.nan) if "e" in fit.vary else 0.0)
-    tol = tol if math.isfinite(tol) else 1e-3
+
+    def floor(x):
+        return max(1e-3, x) if math.isfinite(x) else 1e-3
+
+    tol = floor(se.get("e", math.nan) if "e" in fit.vary else 0.0)
+    rel = se["mu"] / mu if "mu" in fit.vary and mu > 0 else math.inf
+    e_t = fit.physics.get("e_t", math.nan)
+    tol_t = floor((1.0 - e_t) * rel) if math.isfinite(rel) else math.inf
     try:
-        return geometry_error(scene.replace(e=e, mu=mu), tol=tol, normal=fit.model.normal)
+        out = geometry_error(scene.replace(e=e, mu=mu), tol=tol, normal=fit.model.normal)
     except (InputError, RuntimeError):
         return None
+    return {**out, "tol_t": tol_t, "exceeds": bool(out["e_n"] > tol or out["e_t"] > tol_t)}
 
 
 def _diagnosed(fit, record, scene, vary, options, t_begin) -> ContactFit:

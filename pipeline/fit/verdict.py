@@ -190,8 +190,9 @@ def diagnose(
         its systematics) by another law: where another law is decisively better, the
         sensor's filter is judged on that law's fit (a wrong law pulls the filter's
         cut-off to hide its misfit)
-    geometry : dict, optional — {"e_n": Δ, "e_t": Δ, "tol": τ, "theta": θ} from
-        :func:`pipeline.simulate.curved.geometry_error`
+    geometry : dict, optional — {"e_n": Δ, "e_t": Δ, "tol": τ, "tol_t": τ_t, "theta": θ,
+        "exceeds": bool} from :func:`pipeline.simulate.curved.geometry_error` with the fit's
+        own tolerances
     """
     src = fit.data.record.attrs.get("source", "the record")
     causes, messages = [], {}
@@ -290,17 +291,16 @@ def diagnose(
             ImpulseMismatchWarning,
         )
     # ---- geometry
-    if geometry is not None and max(
-        geometry.get("e_n", 0.0), geometry.get("e_t", 0.0)
-    ) > geometry.get("tol", math.inf):
+    if geometry is not None and geometry.get("exceeds", False):
         add(
             "geometry",
             f"the contact normal turns by {geometry.get('theta', math.nan):.3g} rad while the "
             f"ball slides over the curved target; ignoring it moves e_n by "
-            f"{geometry['e_n']:.2g} and e_t by {geometry['e_t']:.2g}, beyond the "
-            f"{geometry['tol']:.2g} the fit allows: the fitted values are those of a "
-            "contact whose normal stays put (pipeline.simulate.curved.turning_outcomes "
-            "gives the rebound with the turn)",
+            f"{geometry['e_n']:.2g} and e_t by {geometry['e_t']:.2g}, beyond what the fit's "
+            f"uncertainties allow ({geometry['tol']:.2g} in e_n from e's, "
+            f"{geometry.get('tol_t', geometry['tol']):.2g} in e_t from the tangential "
+            "parameters'): the fitted values are those of a contact whose normal stays put "
+            "(pipeline.simulate.curved.turning_outcomes gives the rebound with the turn)",
             GeometryWarning,
         )
     # ---- a second impact (the window has warned)
