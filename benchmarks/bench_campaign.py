@@ -83,6 +83,21 @@ def _cpu() -> float:
     return me.ru_utime + me.ru_stime + kids.ru_utime + kids.ru_stime
 
 
+def machine() -> dict:
+    """The versions and the machine a campaign benchmark ran on."""
+    import dask
+    import distributed
+
+    return {
+        "dask": dask.__version__,
+        "distributed": distributed.__version__,
+        "numpy": np.__version__,
+        "python": platform.python_version(),
+        "cpu_count": os.cpu_count(),
+        "load_average_1min": os.getloadavg()[0],
+    }
+
+
 def _reports(files, tmp: Path, client) -> dict:
     """Per-record cost of the reports, rendered (serial and on the workers) and executed in
     a kernel each (module notes)."""
@@ -185,8 +200,6 @@ def _outcome_table(client) -> dict:
 
 
 def run(out_dir: Path) -> dict:
-    import dask
-    import distributed
     from distributed import Client
 
     from pipeline.campaigns.run import local_cluster
@@ -241,12 +254,7 @@ def run(out_dir: Path) -> dict:
         "cluster_start_s": t_start,
         "reports": reports,
         "outcome_table": table,
-        "dask": dask.__version__,
-        "distributed": distributed.__version__,
-        "numpy": np.__version__,
-        "python": platform.python_version(),
-        "cpu_count": os.cpu_count(),
-        "load_average_1min": os.getloadavg()[0],
+        **machine(),
     }
     atomic_write_text(out_dir / "campaign.json", json.dumps(result, indent=2) + "\n")
     _plot(result, out_dir / "campaign.png")

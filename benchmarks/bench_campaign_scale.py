@@ -36,7 +36,6 @@ from __future__ import annotations
 
 import json
 import os
-import platform
 import resource
 import subprocess
 import sys
@@ -47,6 +46,7 @@ from pathlib import Path
 
 import numpy as np
 
+from benchmarks.bench_campaign import _cpu, machine
 from pipeline._atomic import atomic_path, atomic_write_text
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -76,11 +76,6 @@ def _folder(root: Path, n: int) -> Path:
             except OSError:
                 b.write_bytes(a.read_bytes())
     return out
-
-
-def _cpu_self() -> float:
-    me, kids = (resource.getrusage(w) for w in (resource.RUSAGE_SELF, resource.RUSAGE_CHILDREN))
-    return me.ru_utime + me.ru_stime + kids.ru_utime + kids.ru_stime
 
 
 def _worker_usage():
@@ -122,10 +117,10 @@ def _one(n: int, mode: str, folder: str, out: str, nc: str | None = None) -> dic
         try:
             before = client.run(_worker_usage) if client else {}
             rss_before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
-            c0, t0 = _cpu_self(), time.perf_counter()
+            c0, t0 = _cpu(), time.perf_counter()
             ds = campaigns.campaign(folder, **kw)
             wall = time.perf_counter() - t0
-            cpu = _cpu_self() - c0
+            cpu = _cpu() - c0
             after = client.run(_worker_usage) if client else {}
         finally:
             if client is not None:
@@ -177,11 +172,11 @@ def _peer(folder: str, out: str, k: int) -> dict:
     fit_cpu, report_cpu, wall = [], [], []
     for f in files:
         record, scene = load_sample(f), scene_from_sidecar(f)
-        c, t = _cpu_self(), time.perf_counter()
+        c, t = _cpu(), time.perf_counter()
         ode_fit(record, scene, 1e-7)
-        c1 = _cpu_self()
+        c1 = _cpu()
         record_report(f, Path(out) / "peer", html=True, kernel=True, n_boot=N_BOOT, seed=0)
-        c2 = _cpu_self()
+        c2 = _cpu()
         wall.append(time.perf_counter() - t)
         fit_cpu.append(c1 - c)
         report_cpu.append(c2 - c1)
@@ -208,8 +203,6 @@ def _env_int(name, default) -> int:
 
 
 def run(out_dir: Path) -> dict:
-    import dask
-    import distributed
     import lmfit
 
     out_dir = Path(out_dir)
@@ -283,12 +276,7 @@ def run(out_dir: Path) -> dict:
             "lmfit's covariance, and one nbclient kernel per record executing its report",
             "lmfit": lmfit.__version__,
         },
-        "dask": dask.__version__,
-        "distributed": distributed.__version__,
-        "numpy": np.__version__,
-        "python": platform.python_version(),
-        "cpu_count": os.cpu_count(),
-        "load_average_1min": os.getloadavg()[0],
+        **machine(),
     }
     atomic_write_text(out_dir / "campaign_scale.json", json.dumps(result, indent=2) + "\n")
     _plot(result, out_dir / "campaign_scale.png")

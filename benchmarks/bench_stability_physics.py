@@ -247,7 +247,7 @@ CAP_NORMAL = "hertz_dashpot_secant"  # LAMMPS's law: the replay runs the same co
 
 
 def _curved():
-    from pipeline.simulate.curved import geometry_error
+    from pipeline.simulate.curved import geometry_error, turning_outcomes
     from pipeline.simulate.lammps import lammps_version, run_lammps
 
     base = BASE.replace(speed=CAP_SPEED, e=0.9, target_E=np.inf)  # rigid, as LAMMPS's wall
@@ -275,8 +275,6 @@ def _curved():
         cells = [(a, r) for a in (45.0, 75.0, 85.0) for r in (0.02, 0.1)]
         scenes = [base.replace(angle_deg=a, target_radius=r) for a, r in cells]
         lmp = run_lammps(scenes, dt=1e-8)
-        from pipeline.simulate.curved import turning_outcomes
-
         for i, (sc, (a, r)) in enumerate(zip(scenes, cells, strict=True)):
             o = turning_outcomes(sc, CAP_NORMAL)
             replay.append(
