@@ -73,6 +73,85 @@ def test_hertz_refuses_damping():
         normal_pulse("hunt_crossley", 0.05)
 
 
+@pytest.fixture
+def pulse_cache(tmp_path, monkeypatch):
+    """Master curves built in a test go to a temporary cache folder; memory starts empty
+    (and is emptied again after, so later tests do not keep a table of this folder)."""
+    from pipeline.fit import pulse
+
+    monkeypatch.setenv("PIPELINE_CACHE", str(tmp_path))
+    pulse._table.cache_clear()
+    yield tmp_path
+    pulse._table.cache_clear()
+
+
+def test_master_curves_are_solved_once_and_read_back_unchanged(pulse_cache):
+    """A table is solved once per machine: written to $PIPELINE_CACHE, a fresh process (here:
+    memory emptied) reads back the very arrays the solve gave (a file round trip, hence
+    compared bit for bit) and so the same fit; a table is never read for another family, a
+    law whose force changed, or without a cache folder."""
+    from pipeline.fit import pulse
+
+    solved = pulse._table("viscoelastic", 16)
+    files = sorted(pulse_cache.glob("normal-pulse-*.npz"))
+    assert len(files) == 1
+    pulse._table.cache_clear()
+    read = pulse._table("viscoelastic", 16)
+    assert read is not solved
+    np.testing.assert_array_equal(read.data, solved.data)
+    np.testing.assert_array_equal(read.e_nodes, solved.e_nodes)
+    # another family, another grid: files of their own
+    pulse._table("viscoelastic", 8)
+    assert len(list(pulse_cache.glob("normal-pulse-*.npz"))) == 2
+    # a law whose force changed: the key changes, the old file is not read
+    old = pulse._fingerprint("viscoelastic")
+    laws = contact.laws._RAW_FORCES
+    raw = laws["viscoelastic"]
+    try:
+        laws["viscoelastic"] = lambda d, dd, g, K, m, v0: 1.01 * raw(d, dd, g, K, m, v0)
+        assert pulse._fingerprint("viscoelastic") != old
+    finally:
+        laws["viscoelastic"] = raw
+    # a corrupt file is solved again, not read
+    files[0].write_bytes(b"not a table")
+    pulse._table.cache_clear()
+    again = pulse._table("viscoelastic", 16)
+    np.testing.assert_array_equal(again.data, solved.data)
+
+
+def test_master_curves_in_memory_only_without_a_cache_folder(pulse_cache, monkeypatch):
+    """PIPELINE_CACHE="" keeps every table in memory: nothing is written."""
+    from pipeline.fit import pulse
+
+    monkeypatch.setenv("PIPELINE_CACHE", "")
+    p = pulse._table("viscoelastic", 8)
+    assert p.data.shape == (33, 7, 9)
+    assert not list(pulse_cache.iterdir())
+
+
+def test_processes_sharing_the_cache_solve_a_table_once(pulse_cache):
+    """Two processes asking at once for a table nobody has solved: one solves it under the
+    file's lock, the other waits and reads it (pipeline._cache), as a campaign's workers
+    do. Each child reports whether it solved; exactly one did."""
+    import subprocess
+    import sys
+
+    code = (
+        "from pipeline.fit import pulse\n"
+        "built = []\n"
+        "orig = pulse._solve_node\n"
+        "pulse._solve_node = lambda *a: built.append(1) or orig(*a)\n"
+        "pulse._table('viscoelastic', 8)\n"
+        "print('solved' if built else 'read')\n"
+    )
+    procs = [
+        subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
+        for _ in range(2)
+    ]
+    outs = sorted(p.communicate(timeout=300)[0].strip() for p in procs)
+    assert outs == ["read", "solved"]
+
+
 # ------------------------------------------------------------------ the tangential model
 def _dimensionless(scene, law, n=128, **kw):
     K = contact.hertz_stiffness(scene.E_eff, scene.R_eff)

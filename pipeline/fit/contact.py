@@ -387,8 +387,8 @@ def _start(data: RecordData, model: ForwardModel, speed: float) -> dict:
             "speed": speed,
             "t0": mean - data.sensor.delay(),
         }
-    pul = normal_pulse(model.normal, e0, 64)
-    tau = np.linspace(0.0, pul.tau_c[0], 65)
+    pul = normal_pulse(model.normal, e0, model.n_steps)  # the table the fit uses
+    tau = np.linspace(0.0, pul.tau_c[0], pul.n_steps + 1)
     _, mt, wt = _moments(tau, pul.f[0])
     T = width / wt
     ds = T * v0

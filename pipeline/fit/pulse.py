@@ -35,6 +35,15 @@ The tangent and secant dashpot conventions give the same family of shapes (only 
 of ζ for a given e differs), and so do the Hunt–Crossley, Lankarani–Nikravesh and Flores
 laws (one force law, docs/theory.md): each family is tabulated once.
 
+**Solved once per machine.** A table is the same for every process, so it is written to
+the cache folder the outcome tables use (:mod:`pipeline._cache`: ``$PIPELINE_CACHE``,
+default ``~/.cache/pipeline``) as ``normal-pulse-<key>.npz``, ~0.3 MB per family at 128
+steps, and read back by every later process in milliseconds instead of solved again (the
+three families take a few seconds); processes sharing the folder — a campaign's dask
+workers — solve each table once between them. The key holds :data:`PULSE_VERSION`, the
+grid, the solver's tolerances and the family's force at a few states, so a table is never
+read back for another law or grid; reading gives the very arrays the solve wrote.
+
 The normal percussion needs no table: x'' = −f integrates to :math:`P_n/(m^* v_0) = 1 - u`.
 """
 
@@ -46,6 +55,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import contact
+from .._cache import cached_arrays
 from ..errors import InputError
 
 __all__ = ["E_MIN", "NormalPulse", "PulseTable", "pulse_table", "normal_pulse", "shape_of"]
@@ -65,6 +75,10 @@ _FAMILY = {
 }
 #: grid variable y(e) = (1 - e)**power (power None: y = e) and number of nodes per family
 _GRID = {"hunt_crossley": (None, 33), "viscoelastic": (None, 33), "hertz_dashpot": (0.4, 41)}
+#: bump when the tables' content or layout changes (old cache files are then ignored)
+PULSE_VERSION = 1
+#: DOP853's tolerances for the dimensionless impacts
+_RTOL, _ATOL = 1e-12, 1e-13
 
 
 def shape_of(law: str) -> str:
@@ -187,8 +201,8 @@ def _solve_node(law: contact.NormalLaw, e: float, n: int):
         (0.0, 1e3),
         [0.0, 1.0],
         method="DOP853",
-        rtol=1e-12,
-        atol=1e-13,
+        rtol=_RTOL,
+        atol=_ATOL,
         events=events,
         dense_output=True,
         first_step=1e-9,
@@ -222,8 +236,8 @@ def _solve_node(law: contact.NormalLaw, e: float, n: int):
     return np.concatenate([np.stack([x, u, f, df, np.full(n + 1, tc)]), xg])
 
 
-@functools.cache
-def _table(family: str, n_steps: int) -> PulseTable:
+def _nodes(family: str) -> np.ndarray:
+    """The family's Chebyshev–Lobatto nodes in its grid variable, as restitutions (1 first)."""
     power, nodes = _GRID[family]
     k = np.arange(nodes)
     if power is None:
@@ -232,14 +246,45 @@ def _table(family: str, n_steps: int) -> PulseTable:
         y = (1.0 - E_MIN) ** power * (1.0 - np.cos(np.pi * k / (nodes - 1))) / 2
         e = 1.0 - y ** (1.0 / power)
     e[0] = 1.0
-    law = contact.NORMAL_LAWS[family]
-    data = np.stack([_solve_node(law, float(ei), n_steps) for ei in e])
+    return e
+
+
+def _fingerprint(family: str) -> str:
+    """The family's dimensionless force at a few states, at the damping of three
+    restitutions (12 digits): the cache key of a table holds it, so a table is read back
+    only for the force law and calibration that made it."""
+    values = []
+    for e in (0.3, 0.7, 0.95):
+        rhs, _ = contact.dimensionless_normal_rhs(
+            family, float(contact.NORMAL_LAWS[family].calibrate(e))
+        )
+        values += [rhs(0.0, [x, u])[1] for x, u in ((0.5, 0.8), (1.0, 0.0), (0.3, -0.6))]
+    return ",".join(f"{v:.12e}" for v in values)
+
+
+@functools.cache
+def _table(family: str, n_steps: int) -> PulseTable:
+    """One family's table: from memory, else the cache folder, else solved (module notes)."""
+    power, nodes = _GRID[family]
+    e = _nodes(family)
+    spec = (
+        f"v{PULSE_VERSION}|{family}|{n_steps}|{power}|{nodes}|{E_MIN!r}|{_RTOL!r}|{_ATOL!r}|"
+        f"{_fingerprint(family)}"
+    )
+
+    def build():
+        law = contact.NORMAL_LAWS[family]
+        return {"data": np.stack([_solve_node(law, float(ei), n_steps) for ei in e])}
+
+    data = cached_arrays("normal-pulse", spec, ("data",), build)[0]["data"]
+    if data.shape != (nodes, 7, n_steps + 1):  # pragma: no cover - a foreign file
+        raise RuntimeError(f"the cached normal-pulse table of {family!r} has the wrong shape")
     data.setflags(write=False)
     return PulseTable(family=family, e_nodes=e, data=data, power=power)
 
 
 def pulse_table(law: str, n_steps: int = 256) -> PulseTable:
-    """The table of dimensionless pulses of ``law``'s family (solved once per process).
+    """The table of dimensionless pulses of ``law``'s family (solved once per machine).
 
     Parameters
     ----------

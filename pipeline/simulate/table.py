@@ -40,36 +40,22 @@ integrated instead.
 
 Built once, cached: a table is built on first use for its key (law, damping parameter,
 history rule, ζ_t, χ) — about a second, the first ``impact_outcomes(method="table")`` call
-of a fresh process pays it — kept in memory and written to a cache folder
-(``$PIPELINE_CACHE``, default ``~/.cache/pipeline``; ``PIPELINE_CACHE=""`` keeps it in
-memory only), where every later process reads it in milliseconds. Processes that share the
-folder build a table once between them: the builder holds a lock on
-``outcome-table-<key>.lock`` (POSIX ``flock``) and the others wait for it and read the
-table from disk — a campaign's dask workers, which inherit the folder from the process that
-starts them (on a cluster, point ``PIPELINE_CACHE`` at a shared folder). Where no lock can
-be taken (no ``fcntl``, a read-only folder) each process builds its own. Tables are not
-shipped with the package: the key is continuous (any e, tangential damping, material pair
-or tangential stiffness).
+of a fresh process pays it — kept in memory and written to the cache folder
+(:mod:`pipeline._cache`: ``$PIPELINE_CACHE``, default ``~/.cache/pipeline``, as
+``outcome-table-<key>.npz``), where every later process reads it in milliseconds;
+processes sharing the folder build it once between them (a lock on the file), a
+campaign's dask workers among them. Tables are not shipped with the package: the key is
+continuous (any e, tangential damping, material pair or tangential stiffness).
 """
 
 from __future__ import annotations
 
-import contextlib
-import hashlib
-import io
 import math
-import os
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
-try:
-    import fcntl
-except ImportError:  # not POSIX: no build lock, each process builds its own tables
-    fcntl = None
-
-from .._atomic import atomic_write_bytes
+from .._cache import cached_arrays, digest
 from ..errors import InputError
 from ._common import _law, _unique
 from .batch import _batch_group
@@ -139,19 +125,11 @@ class OutcomeTable:
         return g, self.reverses[i]
 
 
-def _cache_dir():
-    env = os.environ.get("PIPELINE_CACHE")
-    if env is not None:
-        return Path(env) if env else None
-    return Path.home() / ".cache" / "pipeline"
-
-
-def _key(law, param, history, zeta_t, chi):
-    spec = (
+def _spec(law, param, history, zeta_t, chi):
+    return (
         f"v{TABLE_VERSION}|{law}|{float(param)!r}|{history}|{float(zeta_t)!r}|{float(chi)!r}|"
         f"{PSI_RANGE}|{N_START}|{MAX_LEVELS}|{TOLERANCE!r}|{BUILD_STEPS}"
     )
-    return hashlib.sha256(spec.encode()).hexdigest()[:24]
 
 
 _MEMORY: dict[str, OutcomeTable] = {}
@@ -171,72 +149,33 @@ def outcome_table(law, param, history="total", zeta_t=0.0, chi=5.0) -> OutcomeTa
     _law(law)
     if history not in ("total", "incremental"):
         raise InputError(f"unknown Mindlin history rule {history!r}")
-    key = _key(law, param, history, zeta_t, chi)
+    spec = _spec(law, param, history, zeta_t, chi)
+    key = digest(spec)
     if key in _MEMORY:
         return _MEMORY[key]
-    folder = _cache_dir()
-    path = None if folder is None else folder / f"outcome-table-{key}.npz"
-    with _build_lock(path):
-        table = None if path is None else _read(path, law, param, history, zeta_t, chi)
-        if table is None:
-            table = _build(law, float(param), history, float(zeta_t), float(chi))
-            if path is not None:
-                with contextlib.suppress(OSError):  # a read-only home: keep it in memory
-                    _write(path, table)
-    _MEMORY[key] = table
-    return table
+    built = {}
 
+    def build():
+        built["table"] = tab = _build(law, float(param), history, float(zeta_t), float(chi))
+        return {k: np.asarray(getattr(tab, k)) for k in _ARRAYS + _SCALARS}
 
-@contextlib.contextmanager
-def _build_lock(path):
-    """Hold the lock of one table's cache file while it is read or built (module notes):
-    another process building it makes this one wait, then read it. No lock without a cache
-    file, without ``fcntl`` or where the lock file cannot be made."""
-    if path is None or fcntl is None:
-        yield
-        return
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        fh = open(path.with_suffix(".lock"), "a")
-    except OSError:
-        yield
-        return
-    with fh:
-        fcntl.flock(fh, fcntl.LOCK_EX)  # released when the file is closed
-        yield
-
-
-_ARRAYS = ("log_psi", "gamma", "reverses", "holes")
-_SCALARS = ("e_n", "tau_c", "f_max", "x_max", "error_bound")
-
-
-def _write(path, table):
-    buf = io.BytesIO()
-    np.savez(
-        buf,
-        **{k: getattr(table, k) for k in _ARRAYS},
-        **{k: np.float64(getattr(table, k)) for k in _SCALARS},
-    )
-    atomic_write_bytes(path, buf.getvalue())
-
-
-def _read(path, law, param, history, zeta_t, chi):
-    try:
-        with np.load(path) as z:
-            arrays = {k: z[k] for k in _ARRAYS}
-            scalars = {k: float(z[k]) for k in _SCALARS}
-    except (OSError, KeyError, ValueError):
-        return None
-    return OutcomeTable(
+    arrays, _ = cached_arrays("outcome-table", spec, _ARRAYS + _SCALARS, build)
+    table = built.get("table") or OutcomeTable(
         law,
         float(param),
         history,
         float(zeta_t),
         float(chi),
-        **arrays,
-        **scalars,
+        **{k: arrays[k] for k in _ARRAYS},
+        **{k: float(arrays[k]) for k in _SCALARS},
         build_seconds=0.0,
     )
+    _MEMORY[key] = table
+    return table
+
+
+_ARRAYS = ("log_psi", "gamma", "reverses", "holes")
+_SCALARS = ("e_n", "tau_c", "f_max", "x_max", "error_bound")
 
 
 def _solve(law, param, history, zeta_t, chi, psi):
