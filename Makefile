@@ -8,7 +8,7 @@ export OPENBLAS_NUM_THREADS := 1
 export OMP_NUM_THREADS := 1
 export MPLBACKEND := Agg
 
-.PHONY: all venv test test-loaded test-narrow-simd test-fuzz reproduce bench data lint clean
+.PHONY: all venv test test-loaded test-narrow-simd test-fuzz reproduce docs bench data lint clean
 
 all: test
 
@@ -45,6 +45,12 @@ reproduce: $(STAMP)
 	MPLCONFIGDIR=$$(mktemp -d) $(PY) -m pipeline.cli reproduce --samples data_samples --out build/reproduce
 	MPLCONFIGDIR=$$(mktemp -d) $(PY) -m pipeline.cli campaign data_samples --out build/campaign
 
+# The documentation site: the user guide (docs/*.md), the examples' gallery (examples/, each
+# script run), the API reference from the docstrings. Warnings are errors. Open
+# build/docs/html/index.html.
+docs: $(STAMP)
+	MPLCONFIGDIR=$$(mktemp -d) $(PY) -m sphinx -b html -W --keep-going -q docs build/docs/html
+
 bench: $(STAMP)
 	MPLCONFIGDIR=$$(mktemp -d) $(PY) -m benchmarks --out build/bench
 
@@ -53,7 +59,7 @@ data: $(STAMP)
 	$(PY) scripts/make_format_samples.py --out data_samples
 
 lint: $(STAMP)
-	$(PY) -m ruff check pipeline tests benchmarks scripts
+	$(PY) -m ruff check pipeline tests benchmarks scripts examples docs
 
 clean:
-	rm -rf build .pytest_cache
+	rm -rf build .pytest_cache docs/auto_examples docs/reference docs/sg_execution_times.rst

@@ -38,8 +38,8 @@ warnings of :mod:`pipeline.errors`):
 what                               how it shows                outcome
 =================================  ==========================  ===============================
 nothing above the noise            no pulse, or spikes only    :class:`NoPulseError`
-pulse cut by the file's start/end  the pulse reaches the first :class:`TruncatedPulseError`
-                                   or last sample
+pulse cut by the file's start/end  the pulse reaches the       :class:`TruncatedPulseError`
+                                   first or last sample
 sign-flipped normal channel        the largest pulse is        :class:`SignFlipError`
                                    negative
 clipping (ADC saturation)          a flat run at Fn's or Ft's  :class:`ClippedSignalError`
