@@ -76,6 +76,7 @@ sphinx_gallery_conf = {
     "examples_dirs": str(ROOT / "examples"),
     "gallery_dirs": "auto_examples",
     "filename_pattern": r".*\.py$",  # run every example, not only plot_*
+    "within_subsection_order": "FileNameSortKey",  # 01_..., 02_...: the tour's order
     "ignore_pattern": r"__init__\.py",
     "image_scrapers": ("gallery_figures.scraper",),  # docs/_ext
     "download_all_examples": False,

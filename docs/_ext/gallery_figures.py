@@ -24,6 +24,6 @@ def scraper(block, block_vars, gallery_conf):
             if isinstance(fig, Figure) and not any(fig is f for f in shown):
                 shown.append(fig)
                 path = next(block_vars["image_path_iterator"])
-                fig.savefig(path, dpi=110, bbox_inches="tight")
+                fig.savefig(path, dpi=150, bbox_inches="tight")
                 paths.append(path)
     return figure_rst(paths, gallery_conf["src_dir"])
