@@ -257,7 +257,8 @@ def _write_if_changed(path: Path, text: str) -> None:
         path.write_text(text, encoding="utf-8")
 
 
-def _reference(app) -> None:
+def _reference(app, config) -> None:
+    # Before Sphinx looks for source files, so the pages are found on a fresh clone.
     write_reference(HERE / "reference")
 
 
@@ -274,5 +275,5 @@ def _user_guide_contents(app, docname, source) -> None:
 
 
 def setup(app):
-    app.connect("builder-inited", _reference, priority=100)
+    app.connect("config-inited", _reference)
     app.connect("source-read", _user_guide_contents)
