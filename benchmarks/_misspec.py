@@ -21,12 +21,26 @@ law                     force                                                 pa
                         :math:`K\delta^{3/2} + a\sqrt{mK}\,\delta^{1/4}\dot\delta`)
 ``viscoelastic``        :math:`x^{3/2} + \tfrac32\gamma\,x^{1/2}u` (Kuwabara–  γ = A·v0/δ*
                         Kono: :math:`K\delta^{3/2} + \tfrac32 AK\delta^{1/2}\dot\delta`)
+``thornton``            loading: :math:`x^{3/2}` to :math:`x_y`, then             r = v_y/v0
+                        :math:`x_y^{3/2} + \tfrac32 x_y^{1/2}(x - x_y)`;
+                        unloading from :math:`(x_m, f_m)`:
+                        :math:`\sqrt{R_p/R^*}\,(x - x_p)^{3/2}` (Thornton's
+                        elastic–perfectly-plastic law, below)
 ======================= ===================================================== ===========
 
 Each damping is set so the normal rebound is the requested e: Hunt–Crossley's c from the
 exact energy relation :math:`c(1+e) = \ln[(1+c)/(1-ce)]` (:func:`hunt_crossley_c`), the two
 dashpot laws by a bracketing root search on the integrated rebound
 (:func:`calibrate`). The dashpot laws let go when their force returns to zero (δ > 0).
+
+Thornton's law (J. Appl. Mech. 64:383, 1997) is given by its yield speed instead, r = v_y/v0
+(the plastic cases draw v/v_y), and its e is the integrated rebound. Hertz holds to the
+yield pressure p_y, reached at :math:`x_y = (5r^2/4)^{2/5}` (½m*v_y² = (2/5)Kδ_y^{5/2});
+beyond it the force grows linearly with :math:`\pi p_y R^* = \tfrac32 K\delta_y^{1/2}`.
+The law has a history: the loading is integrated up to the turning point (an event at
+δ̇ = 0), where :math:`(x_m, f_m)` are read off the integration, and the unloading from there
+is Hertzian on :math:`R_p = \frac{4E^*}{3F_m}\left(\frac{2F_m + F_y}{2\pi p_y}\right)^{3/2}`
+down to :math:`x_p = x_m - (f_m R^{*1/2}/R_p^{1/2})^{2/3}`, where the force lets go.
 
 The tangential force is Mindlin's spring :math:`k_t = 8G^*a`, :math:`a = \sqrt{R^*\delta}`,
 on the *total* tangential displacement ξ (ξ̇ = slip while sticking; on the Coulomb cap
@@ -148,19 +162,50 @@ _TAU_MAX = 50.0  # dimensionless time limit of one contact (Hertz lasts 3.2)
 # ============================================================== normal laws
 @dataclass(frozen=True)
 class _Law:
-    """A normal law in the units δ*, t*, F* (module notes) with its parameter p."""
+    """A normal law in the units δ*, t*, F* (module notes) with its parameter p (and, for
+    Thornton's law once it unloads, the turning point x_m)."""
 
     name: str
     p: float = 0.0
+    x_m: float | None = None
 
     @property
     def lets_go(self) -> bool:
-        """True when the force returns to zero before δ does (the dashpot laws)."""
-        return self.name in ("hertz_dashpot", "viscoelastic")
+        """True when the force returns to zero before δ does (the dashpot laws, Thornton's)."""
+        return self.name in ("hertz_dashpot", "viscoelastic", "thornton")
+
+    @property
+    def turns(self) -> bool:
+        """True for a law with a history still loading: its segment ends at δ̇ = 0."""
+        return self.name == "thornton" and self.x_m is None
+
+    def turned(self, x_m: float) -> _Law:
+        """The law unloading from the turning point x_m."""
+        return replace(self, x_m=float(x_m))
+
+    def _plastic(self):
+        """Thornton's x_y, f_y, loading slope, and (once turned) √(R_p/R*), x_p."""
+        xy = (1.25 * self.p * self.p) ** 0.4
+        fy, k = xy**1.5, 1.5 * math.sqrt(xy)  # π·p_y·R* in these units
+        if self.x_m is None:
+            return xy, fy, k, None, None
+        xm = self.x_m
+        fm = xm**1.5 if xm <= xy else fy + k * (xm - xy)
+        if xm <= xy:  # elastic: unloading retraces Hertz
+            return xy, fy, k, 1.0, 0.0
+        # R_p/R* = (4E*/(3F_m R*))·((2F_m + F_y)/(2π p_y))^{3/2}, with (4/3)E*√R* = 1
+        rp = ((2.0 * fm + fy) / (2.0 * k)) ** 1.5 / fm
+        return xy, fy, k, math.sqrt(rp), xm - (fm / math.sqrt(rp)) ** (2.0 / 3.0)
 
     def f(self, x, u):
         """The force F/F* (unclipped) at approach x and rate u."""
         x = np.maximum(x, 0.0)
+        if self.name == "thornton":
+            xy, fy, k, s, xp = self._plastic()
+            if s is None:
+                return np.where(x <= xy, x**1.5, fy + k * (x - xy))
+            z = x - xp
+            return s * np.sign(z) * np.abs(z) ** 1.5
         if self.name == "hertz":
             return x**1.5
         if self.name == "hunt_crossley":
@@ -172,6 +217,11 @@ class _Law:
     def rate(self, x, u, du):
         """dF/dτ along the motion (x' = u, u' = du)."""
         x = max(x, 1e-300)
+        if self.name == "thornton":
+            xy, fy, k, s, xp = self._plastic()
+            if s is None:
+                return (1.5 * math.sqrt(x) if x <= xy else k) * u
+            return 1.5 * s * math.sqrt(max(x - xp, 0.0)) * u
         if self.name == "hertz":
             return 1.5 * math.sqrt(x) * u
         if self.name == "hunt_crossley":
@@ -183,7 +233,7 @@ class _Law:
         ) * u + 1.5 * self.p * math.sqrt(x) * du
 
 
-NORMAL_LAWS = ("hertz", "hunt_crossley", "hertz_dashpot", "viscoelastic")
+NORMAL_LAWS = ("hertz", "hunt_crossley", "hertz_dashpot", "viscoelastic", "thornton")
 
 
 def hunt_crossley_c(e: float) -> float:
@@ -216,18 +266,31 @@ def _rebound(law: _Law) -> float:
             return y[0]
 
     end.terminal, end.direction = True, -1
-    sol = integrate.solve_ivp(
-        lambda tau, y: [y[1], -law.f(y[0], y[1])],
-        (0.0, _TAU_MAX),
-        [0.0, 1.0],
-        method="DOP853",
-        rtol=_RTOL,
-        atol=_ATOL,
-        events=end,
-    )
-    if sol.status != 1:
-        raise RuntimeError(f"{law.name}: the contact did not end within τ = {_TAU_MAX}")
-    return -float(sol.y_events[0][0][1])
+    tau, y = 0.0, [0.0, 1.0]
+    while True:
+        sol = integrate.solve_ivp(
+            lambda tau, y, law=law: [y[1], -law.f(y[0], y[1])],
+            (tau, _TAU_MAX),
+            y,
+            method="DOP853",
+            rtol=_RTOL,
+            atol=_ATOL,
+            events=[end, _turn] if law.turns else end,
+        )
+        if sol.status != 1:
+            raise RuntimeError(f"{law.name}: the contact did not end within τ = {_TAU_MAX}")
+        if sol.t_events[0].size:
+            return -float(sol.y_events[0][0][1])
+        tau, y = float(sol.t[-1]), sol.y[:, -1]
+        law = law.turned(y[0])
+
+
+def _turn(tau, y):
+    """The turning point δ̇ = 0 of a law with a history (terminal, falling)."""
+    return y[1]
+
+
+_turn.terminal, _turn.direction = True, -1
 
 
 def calibrate(name: str, e: float) -> float:
@@ -235,7 +298,8 @@ def calibrate(name: str, e: float) -> float:
 
     Hunt–Crossley: :func:`hunt_crossley_c`; ``hertz_dashpot`` (a) and ``viscoelastic``
     (γ): Brent's bracketing search (bisection-safeguarded) on the integrated rebound to
-    1e-12 in the parameter; ``hertz``: e must be 1.
+    1e-12 in the parameter; ``thornton`` (r = v_y/v0, e rising with r to 1 at r = 1) the
+    same on [1e-6, 1] (e from 0.04 to 1); ``hertz``: e must be 1.
     """
     if name == "hertz":
         if e != 1.0:
@@ -245,6 +309,8 @@ def calibrate(name: str, e: float) -> float:
         return hunt_crossley_c(e)
     if name not in NORMAL_LAWS:
         raise ValueError(f"unknown normal law {name!r}; choose from {NORMAL_LAWS}")
+    if name == "thornton":
+        return optimize.brentq(lambda p: _rebound(_Law(name, p)) - e, 1e-6, 1.0, xtol=1e-12)
     hi = 0.5
     while _rebound(_Law(name, hi)) > e:
         hi *= 2.0
@@ -257,6 +323,7 @@ class _Segment:
     tau: tuple  # (start, end)
     mode: tuple  # ("stick",), ("slide", σ), ("free",)
     sol: object  # dense output
+    law: _Law | None = None  # the normal law of the segment (Thornton's turns)
 
 
 @dataclass(frozen=True)
@@ -309,6 +376,7 @@ def impact(
     tangential: str = "mindlin",
     turning_normal: bool = False,
     kappa: float = KAPPA,
+    law_param: float | None = None,
 ) -> Impact:
     """Integrate one oblique impact of a ball on a fixed target (module notes).
 
@@ -321,10 +389,12 @@ def impact(
     angle_deg : float — incidence from the normal [deg], 0 < α < 90
     mu : float — Coulomb friction coefficient [-]
     e : float — normal restitution the damping is calibrated to (at v·cos α) [-]
-    normal : {"hertz", "hunt_crossley", "hertz_dashpot", "viscoelastic"}
+    normal : {"hertz", "hunt_crossley", "hertz_dashpot", "viscoelastic", "thornton"}
     tangential : {"mindlin", "coulomb"}
     turning_normal : bool — integrate the line of centres turning over a curved target
     kappa : float — I/(mR²) [-]
+    law_param : float, optional — the law's parameter itself (``e`` then unused), e.g.
+        Thornton's r = v_y/v0
 
     Returns
     -------
@@ -336,7 +406,7 @@ def impact(
     v0 = speed * math.cos(a)
     d_star = (m * v0 * v0 / K) ** 0.4
     t_star, F_star = d_star / v0, K * d_star**1.5
-    law = _Law(normal, calibrate(normal, e))
+    law = _Law(normal, calibrate(normal, e) if law_param is None else float(law_param))
     gk = 6.0 * G_eff / E_eff
     r_sum = (radius + target_radius) / d_star if turning_normal else math.inf
     segments, y, tau_end = _integrate(law, mu, tangential, gk, kappa, math.tan(a), r_sum)
@@ -388,7 +458,7 @@ def _sample(segments, law, mu, gk, tau):
         if not k.any():
             continue
         y = seg.sol(tau[k])
-        n, s = _contact_forces(law, mu, gk, seg.mode, y)
+        n, s = _contact_forces(seg.law or law, mu, gk, seg.mode, y)
         c, si = np.cos(y[2]), np.sin(y[2])
         fn[k], ft[k], f_normal[k], x[k] = n * c + s * si, -n * si + s * c, n, y[0]
     return fn, ft, f_normal, x
@@ -492,6 +562,7 @@ def _integrate(law, mu, tangential, gk, kappa, tan_a, r_sum):
     tau, segments = 0.0, []
     for _ in range(400):
         ev = [end] + ([sw] if (sw := switch(mode)) is not None else [])
+        ev += [_turn] if law.turns else []
         sol = integrate.solve_ivp(
             rhs(mode),
             (tau, _TAU_MAX),
@@ -504,10 +575,13 @@ def _integrate(law, mu, tangential, gk, kappa, tan_a, r_sum):
         )
         if sol.status != 1:
             raise RuntimeError(f"contact did not end within τ = {_TAU_MAX}: {sol.message}")
-        segments.append(_Segment((tau, float(sol.t[-1])), mode, sol.sol))
+        segments.append(_Segment((tau, float(sol.t[-1])), mode, sol.sol, law))
         tau, y = float(sol.t[-1]), sol.y[:, -1].copy()
         if sol.t_events[0].size:
             break
+        if law.turns and sol.t_events[-1].size:  # the turning point: unload from here
+            law = law.turned(y[0])
+            continue
         x, u = max(y[0], 0.0), y[1]
         if mode[0] == "stick":
             mode = ("slide", 1.0 if y[5] >= 0 else -1.0)
@@ -767,6 +841,7 @@ def _experiment(
     told_gains=True,
     systematics=None,
     misspecified="nothing",
+    law_param=None,
 ):
     """Draw, integrate and measure one experiment; return (record, truth, told).
 
@@ -784,6 +859,8 @@ def _experiment(
         the case sets the gains itself)
     systematics : dict or None — the tolerances the lab states (``told["systematics"]``)
     misspecified : str — what is wrong, in words
+    law_param : float, optional — the true law's parameter (Thornton's r = v_y/v0) in
+        place of the drawn e; ``truth["e"]`` is then the law's integrated rebound
 
     Returns
     -------
@@ -817,6 +894,7 @@ def _experiment(
         turning_normal=math.isfinite(x["target_radius"])
         if turning_normal is None
         else turning_normal,
+        law_param=law_param,
     )
     r = _rig(rng, x, imp, **(rig(rng, x, imp) if rig else {}))
     err = _told(case, seed)
@@ -846,7 +924,7 @@ def _experiment(
     )
     truth = {
         "E_eff": _effective(ball, x["radius"], target, x["target_radius"])[1],
-        "e": x["e"],
+        "e": x["e"] if law_param is None else _rebound(_Law(normal, law_param)),
         "mu": x["mu"],
         "kt_scale": 1.0,
         "speed": x["speed"],
@@ -1046,6 +1124,57 @@ def curved_grazing(seed: int):
     )
 
 
+#: The plastic cases' impact speed over yield speed v/v_y, drawn log-uniform in each range:
+#: just past the onset of yield (e ≈ 0.78–0.89), Garland–Rogers-like impacts of steel at
+#: 0.5–2 m/s (e ≈ 0.61–0.78), deep in the plastic range (e ≈ 0.44–0.61).
+PLASTIC_RATIOS = {
+    "plastic_onset": (2.5, 5.0),
+    "plastic": (5.0, 15.0),
+    "plastic_deep": (15.0, 50.0),
+}
+
+
+def _plastic(case: str, seed: int):
+    """Thornton records at a drawn v/v_y (:data:`PLASTIC_RATIOS`); the truth carries the
+    yield speed ``v_y`` [m/s], the yield pressure ``p_y`` [Pa] and ``speed_over_yield``."""
+    ratio = _loguniform(_rng(f"{case}:yield", seed), *PLASTIC_RATIOS[case])
+    out = _experiment(
+        case,
+        seed,
+        normal="thornton",
+        law_param=1.0 / ratio,
+        misspecified=f"elastic–plastic contact (Thornton), v/v_y = {ratio:.3g}",
+    )
+    truth = out[1]
+    ball, tgt = MATERIALS[truth["ball"]], MATERIALS[truth["target"]]
+    m, E_eff, _, R_eff = _effective(ball, truth["radius"], tgt, truth["target_radius"])
+    v_y = truth["speed"] * math.cos(math.radians(truth["angle_deg"])) / ratio
+    # ½m·v_y² = (8/15)E*√R*·δ_y^{5/2} and p_0 = (2E*/π)√(δ_y/R*) (Thornton 1997)
+    d_y = (15.0 * m * v_y**2 / (16.0 * E_eff * math.sqrt(R_eff))) ** 0.4
+    truth.update(
+        v_y=v_y, p_y=2.0 * E_eff / math.pi * math.sqrt(d_y / R_eff), speed_over_yield=ratio
+    )
+    return out
+
+
+def plastic_onset(seed: int):
+    """Elastic–perfectly-plastic (Thornton) records just past the onset of yield,
+    v/v_y = 2.5–5, fitted with the default Hunt–Crossley."""
+    return _plastic("plastic_onset", seed)
+
+
+def plastic(seed: int):
+    """Elastic–perfectly-plastic (Thornton) records at v/v_y = 5–15 (steel at 0.5–2 m/s),
+    fitted with the default Hunt–Crossley."""
+    return _plastic("plastic", seed)
+
+
+def plastic_deep(seed: int):
+    """Elastic–perfectly-plastic (Thornton) records deep in the plastic range, v/v_y =
+    15–50, fitted with the default Hunt–Crossley."""
+    return _plastic("plastic_deep", seed)
+
+
 def _cases():
     spec = [
         (control, ()),
@@ -1060,6 +1189,9 @@ def _cases():
         (speed_off, ("impulse_mismatch",)),
         (gain_off, ("impulse_mismatch",)),
         (curved_grazing, ("geometry",)),
+        (plastic_onset, ("normal_law",)),
+        (plastic, ("normal_law",)),
+        (plastic_deep, ("normal_law",)),
     ]
     return {
         fn.__name__: Case(fn.__name__, causes, " ".join(fn.__doc__.split("\n\n")[0].split()), fn)

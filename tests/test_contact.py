@@ -289,7 +289,8 @@ DAMPED = sorted(ODE_ACCEL)
 
 
 def test_registry_covers_all_damped_laws():
-    assert set(contact.NORMAL_LAWS) == set(DAMPED) | {"hertz"}
+    # Thornton's plastic law is checked against its closed forms in tests/test_plastic.py
+    assert set(contact.NORMAL_LAWS) == set(DAMPED) | {"hertz", "thornton"}
     for name, law in contact.NORMAL_LAWS.items():
         assert law.name == name
         assert callable(law.force) and callable(law.calibrate) and callable(law.cor)
@@ -308,7 +309,7 @@ def test_calibration_against_independent_ode(name, e):
     assert law.cor(p) == pytest.approx(e, abs=1e-12)
 
 
-@pytest.mark.parametrize("name", DAMPED)
+@pytest.mark.parametrize("name", [*DAMPED, "thornton"])
 def test_registered_force_in_physical_units(name):
     """m*·δ̈ = −force(δ, δ̇, param, K, m*, v0) for a 25.4 mm steel ball at 0.5 m/s (δ ≈ 17 µm),
     ended by the δ = 0 event only (the clipped force makes that the same rebound)."""
@@ -597,6 +598,8 @@ def test_normal_damping_coefficient_is_the_rate_term_of_the_law(name):
         "hertz_dashpot": 2 * p * np.sqrt(m * 1.5 * K * np.sqrt(d)),
         "hertz_dashpot_secant": 2 * p * np.sqrt(m * K * np.sqrt(d)),
         "viscoelastic": 1.5 * K * p * (m / K) ** 0.4 * v0**-0.2 * np.sqrt(d),
+        # Thornton 1997: no dashpot, the loss is plastic work (the force is rate-free)
+        "thornton": 0.0 * d,
     }[name]
     eta = law.damping(d, p, K, m, v0)
     np.testing.assert_allclose(eta, expected, rtol=1e-14, atol=0.0)

@@ -32,6 +32,9 @@ from .normal import (
     kuwabara_kono_group,
     zeta_hertz_dashpot_dem,
 )
+from .plastic import _law_force as _thornton_force
+from .plastic import _no_damping as _thornton_damping
+from .plastic import calibrate_thornton, cor_thornton
 
 __all__ = [
     "NormalLaw",
@@ -63,7 +66,16 @@ class NormalLaw:
         The normal dashpot coefficient at approach δ [m]: every law here is linear in the
         approach rate, F = F_el(δ) + η_n(δ)·δ̇ before the no-adhesion clip. A tangential
         dashpot of ratio x_γ,t (LAMMPS's convention, :mod:`pipeline.contact.tangential`)
-        has the coefficient x_γ,t·η_n(δ).
+        has the coefficient x_γ,t·η_n(δ). Thornton's plastic law has no dashpot (its loss
+        is plastic work): η_n = 0.
+
+    Notes
+    -----
+    ``"thornton"`` (:mod:`pipeline.contact.plastic`) depends on the largest approach so far,
+    not on the rate; in this signature, which describes one impact from approach speed v0
+    at δ = 0, it loads while δ̇ ≥ 0 and unloads from that impact's own largest approach
+    (closed form). Its parameter r = v_y/v0 plays the damping's part: the restitution is a
+    function of r alone (:func:`pipeline.contact.cor_thornton`).
     """
 
     name: str
@@ -203,6 +215,20 @@ NORMAL_LAWS: dict[str, NormalLaw] = {
         e_range=(0.0, 1.0),
         damping=_viscoelastic_damping,
     ),
+    "thornton": NormalLaw(
+        "thornton",
+        _thornton_force,
+        calibrate_thornton,
+        None,
+        "r = v_y/v0 [-] (yield speed over approach speed)",
+        material_to_param=lambda v_y, K, m_eff, v0: _f(
+            np.asarray(v_y, dtype=float) / np.asarray(v0, dtype=float)
+        ),
+        material="v_y [m/s] (yield speed; from the yield pressure by yield_velocity)",
+        cor=cor_thornton,
+        e_range=(0.0, 1.0),
+        damping=_thornton_damping,
+    ),
 }
 
 
@@ -213,6 +239,7 @@ _RAW_FORCES = {
     "hertz_dashpot": lambda d, dd, z, K, m, v0: _hertz_dashpot_raw(d, dd, z, K, m, "tangent"),
     "hertz_dashpot_secant": lambda d, dd, z, K, m, v0: _hertz_dashpot_raw(d, dd, z, K, m, "secant"),
     "viscoelastic": _viscoelastic_raw,
+    "thornton": lambda d, dd, r, K, m, v0: _thornton_force(d, dd, r, K, m, v0, clip=False),
 }
 
 

@@ -17,6 +17,16 @@ speed    m/s    impact speed
 t0       s      instant of first contact on the record's clock
 ======== ====== ==============================================================
 
+Thornton's elastic–perfectly-plastic law (``normal="thornton"``) is fitted through the
+same e — its yield pressure and e are one-to-one at a given E*, speed and ball
+(:func:`pipeline.contact.calibrate_thornton`) — and the fit reports both: ``p_y`` [Pa],
+the yield pressure, and ``v_y`` [m/s], the yield speed, in ``values``, ``stderr`` and
+``ci()`` beside the fitted parameters. Their intervals map e's interval (with its
+systematics and model spread) through the closed form, which is steep near e = 1 (an
+upper end at e = 1 leaves only a lower bound: the contact may not have yielded), and add
+in quadrature what E*, the speed, mass and radius move them by (their covariance,
+propagated linearly).
+
 Both force channels are fitted jointly, each sample weighted by 1/σ of its channel's noise
 (measured outside the contact), on all the samples with each channel's residual baseline
 fitted alongside (:mod:`pipeline.fit.forward`). lmfit's
@@ -43,22 +53,24 @@ Choices, and why:
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 import time
 import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy import special
 
 from .._json import json_ready
-from ..contact import NORMAL_LAWS
+from ..contact import NORMAL_LAWS, calibrate_thornton, yield_pressure
 from ..errors import InputError, PipelineWarning
 from ..percussion import estimate_mu
 from ..scene import Scene
 from ..simulate.curved import geometry_error
 from ..smooth import runs_test
 from .engine import Design
-from .forward import PARAMS, ForwardModel, RecordData, Solution, param_scales, prepare
+from .forward import _I, PARAMS, UNITS, ForwardModel, RecordData, Solution, param_scales, prepare
 from .procedure import run_fit
 from .pulse import E_MIN, normal_pulse
 from .result import FitResult
@@ -139,6 +151,63 @@ class ContactFit(FitResult):
     @property
     def normal(self) -> str:
         return self.model.normal
+
+    # ------------------------------------------------- what a plastic fit implies
+    @functools.cached_property
+    def _yield95(self) -> dict:
+        return _yield_point(self, 0.95)
+
+    def _derived(self, level=0.95) -> dict:
+        """{name: (value, stderr, (lo, hi))} of ``p_y`` [Pa] and ``v_y`` [m/s] for a fit of
+        Thornton's law (module notes); empty for the other laws."""
+        if self.model is None or self.normal != "thornton":
+            return {}
+        return self._yield95 if level == 0.95 else _yield_point(self, level)
+
+    @property
+    def values(self) -> dict:
+        """{name: value} [SI] (:attr:`FitResult.values`), and for Thornton's law the yield
+        pressure ``p_y`` [Pa] and yield speed ``v_y`` [m/s] it implies."""
+        out = super().values
+        out.update({k: v[0] for k, v in self._derived().items()})
+        return out
+
+    @property
+    def stderr(self) -> dict:
+        out = super().stderr
+        out.update({k: v[1] for k, v in self._derived().items()})
+        return out
+
+    def ci(self, level: float = 0.95, method: str = "auto", kind: str = "total") -> dict:
+        """Intervals {name: (lo, hi)} (:meth:`FitResult.ci`), with ``p_y`` and ``v_y`` for
+        Thornton's law (their total intervals, with ``kind="total"``; module notes)."""
+        out = super().ci(level, method, kind)
+        if kind == "total":
+            out.update({k: v[2] for k, v in self._derived(level).items()})
+        return out
+
+    def _param_lines(self, level=0.95) -> list:
+        lines = super()._param_lines(level)
+        for k, (v, se, (lo, hi)) in self._derived(level).items():
+            what = "yield pressure" if k == "p_y" else "yield speed"
+            if math.isinf(hi):
+                lines.append(
+                    f"    {k:<12s} ≥ {lo:.6g} {UNITS[k]} ({what}, implied; only a lower bound, "
+                    f"{level:.0%}: e's interval reaches 1)"
+                )
+            else:
+                lines.append(
+                    f"    {k:<12s} = {v:.6g} ± {se:.2g} {UNITS[k]}  [{lo:.6g}, {hi:.6g}] "
+                    f"({level:.0%}; {what}, implied)"
+                )
+        return lines
+
+    def _summary_params(self) -> dict:
+        out = super()._summary_params()
+        for k, (v, se, ci) in self._derived().items():
+            out[k] = {"value": v, "unit": UNITS[k], "vary": False, "derived": True,
+                      "stderr": se, "ci95": list(ci)}  # fmt: skip
+        return out
 
     @property
     def tangential(self) -> str:
@@ -347,6 +416,52 @@ class ContactFit(FitResult):
         ds.attrs["normal_model"] = self.normal
         ds.attrs["tangential_model"] = self.tangential
         return ds
+
+
+def _yield_point(fit, level) -> dict:
+    """``p_y`` [Pa] and ``v_y`` [m/s] of a Thornton fit: {name: (value, stderr, (lo, hi))}
+    (module notes)."""
+    d, design = fit.data, fit.problem.design
+    theta = np.asarray(fit.theta, dtype=float)
+
+    def logs(th, e=None):
+        P = design.local(np.asarray(th, dtype=float)[None, :])[0][0]
+        r = calibrate_thornton(np.clip(P[_I["e"]] if e is None else e, 1e-12, 1.0))
+        v_y = r * P[_I["speed"]] * d.cos_a
+        E, R, m = P[_I["E_eff"]], d.R_eff_of(P[_I["radius"]]), d.m_eff_of(P[_I["mass"]])
+        return np.log([float(yield_pressure(v_y, E, R, m)), float(v_y)])
+
+    centre = logs(theta)
+    vary = fit.vary
+    g = np.zeros((2, len(vary)))
+    for j, name in enumerate(vary):
+        i = fit.names.index(name)
+        h = 1e-7 * max(abs(theta[i]), 1e-12)
+        up, down = theta.copy(), theta.copy()
+        up[i] += h
+        down[i] -= h
+        g[:, j] = (logs(up) - logs(down)) / (2 * h)
+    cov = np.where(np.isfinite(fit.cov), fit.cov, 0.0)
+    rest = np.einsum("ij,jk,ik->i", g, cov, g)
+    z = float(special.ndtri(0.5 + level / 2.0))
+    e_lo = e_hi = None
+    if "e" in vary and "e" not in fit.one_sided:
+        j = vary.index("e")
+        rest = rest - g[:, j] ** 2 * cov[j, j]  # e's part: its interval, mapped
+        e_lo, e_hi = FitResult.ci(fit, level)["e"]
+    rest = np.sqrt(np.maximum(rest, 0.0))
+    out = {}
+    for k, name in enumerate(("p_y", "v_y")):
+        lo_e = hi_e = 0.0
+        if e_lo is not None:
+            lo_e = centre[k] - logs(theta, max(e_lo, 1e-9))[k]
+            hi_e = math.inf if e_hi >= 1.0 else logs(theta, e_hi)[k] - centre[k]
+        lo = centre[k] - math.hypot(lo_e, z * rest[k])
+        hi = centre[k] + math.hypot(hi_e, z * rest[k])
+        value = math.exp(centre[k])
+        se = value * (hi - lo) / (2 * z) if math.isfinite(hi) else math.nan
+        out[name] = (value, se, (math.exp(lo), math.exp(hi)))
+    return out
 
 
 def _unit(k):
@@ -722,10 +837,13 @@ def _diagnosed(fit, record, scene, vary, options, t_begin) -> ContactFit:
         extra, order_table = model_spread(fit, by_order, own=spec.filter_order)
         spread = {n: math.hypot(spread.get(n, 0.0), extra.get(n, 0.0)) for n in spread | extra}
 
-    def refit_order(order):
+    def refit_order(order, law=None):
         if not spec.filtered:
             return None
-        return refit(m, sensor=dataclasses.replace(spec, filter_order=order, notes=()))
+        model = (
+            m if law in (None, m.normal) else ForwardModel(law, m.tangential, m.history, m.n_steps)
+        )
+        return refit(model, sensor=dataclasses.replace(spec, filter_order=order, notes=()))
 
     def refit_law(law):
         return refit(ForwardModel(law, m.tangential, m.history, m.n_steps))

@@ -125,6 +125,8 @@ UNITS = {
     "leak_tn": "1",
     "time_base": "1",
     "bandwidth": "Hz",
+    "p_y": "Pa",
+    "v_y": "m/s",
 }
 _I = {name: i for i, name in enumerate(PARAMS)}
 #: Local parameters whose derivatives the forward model gives in closed form (they scale,

@@ -31,6 +31,18 @@ force law, chosen where the family is smooth:
 - Hertz with a linear dashpot: :math:`(1 - e)^{2/5}` (the separation at δ > 0 brings
   fractional powers of 1 − e near e = 1); 41 nodes, ~1e-6.
 
+Thornton's elastic–plastic law (:mod:`pipeline.contact.plastic`) needs no table: its pulse
+is Hertz's rise to the yield point, a harmonic stretch on the linear plastic branch and a
+Hertz half-pulse of unloading on the enlarged radius, each in closed form but for the
+Hertz rise, which is the inverse of an incomplete beta function, tabulated once on 4096
+steps and interpolated by cubic Hermite (values and rates; ~1e-12 of δ*). A table in e
+would not serve it: the yield and the turning point are kinks (jumps in the force's
+second derivative) that move along the pulse as e changes, and the pulse changes as
+(1 − e)^{1/4} near e = 1 (de/dr = 0 at the onset of yield, r = v_y/v0), so no grid
+variable makes the family smooth there; :class:`PlasticPulses` computes each e's pulse
+afresh (:func:`pipeline.contact.calibrate_thornton` for r, then the phases), exact to
+~1e-12 of δ* at every e.
+
 The tangent and secant dashpot conventions give the same family of shapes (only the value
 of ζ for a given e differs), and so do the Hunt–Crossley, Lankarani–Nikravesh and Flores
 laws (one force law, docs/theory.md): each family is tabulated once.
@@ -58,7 +70,15 @@ from .. import contact
 from .._cache import cached_arrays
 from ..errors import InputError
 
-__all__ = ["E_MIN", "NormalPulse", "PulseTable", "pulse_table", "normal_pulse", "shape_of"]
+__all__ = [
+    "E_MIN",
+    "NormalPulse",
+    "PulseTable",
+    "PlasticPulses",
+    "pulse_table",
+    "normal_pulse",
+    "shape_of",
+]
 
 #: Smallest restitution the tables cover (the fits bound e below by it).
 E_MIN = 0.1
@@ -72,6 +92,7 @@ _FAMILY = {
     "hertz_dashpot": "hertz_dashpot",
     "hertz_dashpot_secant": "hertz_dashpot",
     "viscoelastic": "viscoelastic",
+    "thornton": "thornton",
 }
 #: grid variable y(e) = (1 - e)**power (power None: y = e) and number of nodes per family
 _GRID = {"hunt_crossley": (None, 33), "viscoelastic": (None, 33), "hertz_dashpot": (0.4, 41)}
@@ -156,13 +177,7 @@ class PulseTable:
         return e if self.power is None else (1.0 - e) ** self.power
 
     def __call__(self, e) -> NormalPulse:
-        e = np.atleast_1d(np.asarray(e, dtype=float))
-        if np.any(~((e >= E_MIN - 1e-12) & (e <= 1.0 + 1e-12))):
-            raise InputError(
-                f"restitution e = {e!r} is outside the tabulated range [{E_MIN}, 1] of the "
-                "normal pulse"
-            )
-        e = np.clip(e, E_MIN, 1.0)
+        e = _check_e(e)
         y = self._y(e)
         yn = self._y(self.e_nodes)
         k = np.arange(yn.size)
@@ -186,6 +201,48 @@ class PulseTable:
             f=out[:, 2],
             df=out[:, 3],
             xg=np.maximum(out[:, 5:7, :-1], 0.0),
+        )
+
+
+def _check_e(e):
+    e = np.atleast_1d(np.asarray(e, dtype=float))
+    if np.any(~((e >= E_MIN - 1e-12) & (e <= 1.0 + 1e-12))):
+        raise InputError(
+            f"restitution e = {e!r} is outside the tabulated range [{E_MIN}, 1] of the normal pulse"
+        )
+    return np.clip(e, E_MIN, 1.0)
+
+
+@dataclass(frozen=True, eq=False)
+class PlasticPulses:
+    """Thornton's dimensionless pulses in closed form (module notes): no table.
+
+    Call it with restitutions e (array) to get their :class:`NormalPulse` on ``n_steps``
+    equal steps, as a :class:`PulseTable` gives the other laws'.
+    """
+
+    family: str
+    n_steps: int
+
+    def __call__(self, e) -> NormalPulse:
+        e = _check_e(e)
+        imp = contact.plastic._impact(contact.calibrate_thornton(e))
+        n = self.n_steps
+        h = imp.tau_c[:, None] / n
+        tau = h * np.arange(n + 1)
+        x, u, f, df = imp.state(tau)
+        x[:, 0], u[:, 0], f[:, 0] = 0.0, 1.0, 0.0
+        f[:, -1] = 0.0  # the contact ends where the force does (at δ_p > 0)
+        g = 0.5 + np.array([-1.0, 1.0]) * np.sqrt(3.0) / 6.0  # Gauss–Legendre points
+        xg = np.stack([imp.state(tau[:, :-1] + gi * h)[0] for gi in g], axis=1)
+        return NormalPulse(
+            e=e,
+            tau_c=imp.tau_c,
+            x=np.maximum(x, 0.0),
+            u=u,
+            f=np.maximum(f, 0.0),
+            df=df,
+            xg=np.maximum(xg, 0.0),
         )
 
 
@@ -283,8 +340,9 @@ def _table(family: str, n_steps: int) -> PulseTable:
     return PulseTable(family=family, e_nodes=e, data=data, power=power)
 
 
-def pulse_table(law: str, n_steps: int = 256) -> PulseTable:
-    """The table of dimensionless pulses of ``law``'s family (solved once per machine).
+def pulse_table(law: str, n_steps: int = 256) -> PulseTable | PlasticPulses:
+    """The table of dimensionless pulses of ``law``'s family (solved once per machine;
+    Thornton's law: :class:`PlasticPulses`, its pulses in closed form).
 
     Parameters
     ----------
@@ -293,7 +351,10 @@ def pulse_table(law: str, n_steps: int = 256) -> PulseTable:
     """
     if int(n_steps) != n_steps or n_steps < 8 or n_steps % 2:
         raise InputError(f"n_steps must be an even integer ≥ 8, got {n_steps!r}")
-    return _table(shape_of(law), int(n_steps))
+    family = shape_of(law)
+    if family == "thornton":
+        return PlasticPulses(family, int(n_steps))
+    return _table(family, int(n_steps))
 
 
 def normal_pulse(law: str, e, n_steps: int = 256) -> NormalPulse:

@@ -17,7 +17,10 @@ The tangential ladder, cheapest first (docs/theory.md):
     force reverse (Maw, Barber & Fawcett 1976). Parameters E*, e, μ, ``kt_scale``, t0.
 
 and, for the compliant rungs, the normal laws: elastic Hertz (no damping parameter), the
-Hunt–Crossley family, Hertz with a linear dashpot, viscoelastic.
+Hunt–Crossley family, Hertz with a linear dashpot, viscoelastic, and Thornton's
+elastic–perfectly-plastic law (its loss is plastic work, not damping: a metal struck past
+its yield speed, :mod:`pipeline.contact.plastic`). The Coulomb rung tries the elastic, the
+default damped and the plastic law; the Mindlin rung every law.
 
 **The rule.** Every candidate is fitted (:func:`pipeline.fit.fit_contact`'s model, the
 inputs taken as exact and no bootstrap, so that the candidates compare like for like). A
@@ -76,10 +79,12 @@ DEFAULT_CANDIDATES = (
     ("rigid", None),
     ("coulomb", "hertz"),
     ("coulomb", "hunt_crossley"),
+    ("coulomb", "thornton"),
     ("mindlin", "hertz"),
     ("mindlin", "hunt_crossley"),
     ("mindlin", "hertz_dashpot"),
     ("mindlin", "viscoelastic"),
+    ("mindlin", "thornton"),
 )
 
 

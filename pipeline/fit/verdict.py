@@ -67,6 +67,7 @@ from ..errors import (
     NormalLawWarning,
     SensorFilterWarning,
 )
+from .forward import _I
 from .pulse import shape_of
 from .sensor import CrossTalkWarning, fy_tracks_fn
 
@@ -102,7 +103,7 @@ PULL_Z = 3.0
 IMPULSE_FLOOR = 0.005
 #: One law per family of pulse shapes (pipeline.fit.pulse): the alternatives a fit is
 #: compared with.
-FAMILY_LAWS = ("hunt_crossley", "hertz_dashpot", "viscoelastic")
+FAMILY_LAWS = ("hunt_crossley", "hertz_dashpot", "viscoelastic", "thornton")
 #: A stated filter shapes the pulse where its cut-off lies within this many contact
 #: frequencies (f_c·t_c): there the other Butterworth orders are fitted too.
 FILTER_SHAPES = 10.0
@@ -184,8 +185,9 @@ def diagnose(
     fit : pipeline.fit.ContactFit
     table : dict, optional — the law table of :func:`model_spread`
     orders : dict, optional — its table of the filter orders (:func:`alternative_orders`)
-    refit_order : callable, optional — ``refit_order(order) -> ContactFit``, the same fit
-        with a Butterworth filter of that order (tried when the fit is poor)
+    refit_order : callable, optional — ``refit_order(order, law=None) -> ContactFit``, the
+        same fit with a Butterworth filter of that order (tried when the fit is poor), by
+        another normal law if given
     refit_law : callable, optional — ``refit_law(law) -> ContactFit``, the same fit (with
         its systematics) by another law: where another law is decisively better, the
         sensor's filter is judged on that law's fit (a wrong law pulls the filter's
@@ -220,10 +222,21 @@ def diagnose(
                 "select_model choose",
                 NormalLawWarning,
             )
-    # ---- the sensor's filter, judged on the better law's fit where that is another
+    # ---- the sensor and the scene, judged on the better law's fit where that is another:
+    # a wrong law pulls whatever shapes or scales the pulse (the filter's cut-off and order,
+    # the leaks, the speed and gains) to hide its misfit, so those pulls say nothing of the
+    # sensor until the law is right
     judged = fit
     if "normal_law" in causes and refit_law is not None:
         judged = refit_law(min(table, key=lambda k: table[k]["aic"])) or fit
+    order_of, shapes = refit_order, bool(orders)
+    if judged is not fit:  # the order table is the wrong law's: refit the better one
+        orders = None
+        if refit_order is not None:
+
+            def order_of(k):
+                return refit_order(k, judged.normal)
+
     bw = _pull(judged, "bandwidth")
     if bw is not None and abs(bw[0]) > PULL_Z:
         add(
@@ -232,35 +245,35 @@ def diagnose(
             f"uncertainties from the stated {bw[2]:.4g} Hz: check the amplifier's filter setting",
             SensorFilterWarning,
         )
-    elif (better := _better_order(fit, orders, refit_order)) is not None:
+    elif (better := _better_order(judged, orders, order_of, always=shapes)) is not None:
         k, delta, e_k = better
         add(
             "sensor_filter",
             f"a Butterworth filter of order {k} fits decisively better than the stated order "
             f"{fit.data.sensor.filter_order} (ΔAIC = {delta:.1f}; E* {e_k:.4g} Pa against "
-            f"{fit.values['E_eff']:.4g}): check the amplifier's filter",
+            f"{judged.values['E_eff']:.4g}): check the amplifier's filter",
             SensorFilterWarning,
         )
     # ---- cross-talk
-    pulls = {k: _pull(fit, k) for k in ("leak", "leak_tn")}
+    pulls = {k: _pull(judged, k) for k in ("leak", "leak_tn")}
     pulls = {k: p for k, p in pulls.items() if p is not None}
     worst = max(pulls, key=lambda k: abs(pulls[k][0]), default=None)
     leak = pulls.get(worst)
     fy = None
     if fit.tangential != "none" and fit.data.sensor.crosstalk is None:
-        fy = fy_tracks_fn(fit.data, fit.predicted()[0])
+        fy = fy_tracks_fn(judged.data, judged.predicted()[0])
     if leak is not None and abs(leak[0]) > PULL_Z:
         way = ("Fn → Ft", "Fn") if worst == "leak" else ("Ft → Fn", "Ft")
         add(
             "crosstalk",
             f"the record puts the {way[0]} leak at {leak[1]:+.2%} of {way[1]}, {leak[0]:+.1f} "
-            f"standard uncertainties beyond the allowed ±{fit.priors[worst][1]:.2%}: give the "
+            f"standard uncertainties beyond the allowed ±{judged.priors[worst][1]:.2%}: give the "
             "sensor's cross-talk matrix (sensor={'crosstalk_matrix': ...}) or load the record "
             "decoupled",
             CrossTalkWarning,
         )
     elif fy is not None:
-        add("crosstalk", _crosstalk_text(fit, fy), CrossTalkWarning)
+        add("crosstalk", _crosstalk_text(judged, fy), CrossTalkWarning)
     # ---- coloured noise (modelled)
     coloured = {c.name: c.noise for c in fit.data.channels if not c.noise.white}
     if coloured:
@@ -279,14 +292,10 @@ def diagnose(
     mismatch = impulse_mismatch(fit)
     bad = {k: v for k, v in mismatch.items() if v["mismatch"]}
     if bad:
-        text = "; ".join(
-            f"the model's {k} over the contact is {v['model_Ns']:.5g} N s against the "
-            f"measured {v['measured_Ns']:.5g} ± {v['sigma_Ns']:.2g} N s ({v['relative']:+.2%})"
-            for k, v in bad.items()
-        )
         add(
             "impulse_mismatch",
-            text + ": the model trades impulse for pulse shape — another normal law, a "
+            "; ".join(_impulse_text(fit, k, v) for k, v in bad.items())
+            + ": the model trades impulse for pulse shape — another normal law, a "
             "baseline that drifts under the pulse or a wrong scene",
             ImpulseMismatchWarning,
         )
@@ -332,15 +341,16 @@ def diagnose(
     }
 
 
-def _better_order(fit, orders, refit_order):
+def _better_order(fit, orders, refit_order, always=False):
     """(order, ΔAIC, its E*) of a Butterworth order decisively better than the stated one,
     or None: from the order table where the filter shapes the pulse, else — the fit being
-    poor — by refitting with each other order."""
+    poor, or ``always`` — by refitting with each other order."""
     stated = fit.data.sensor.filter_order
+    poor = fit.misfit is not None and not fit.misfit.ok
     if orders:
         aic = {k: v["aic"] for k, v in orders.items()}
         e_eff = {k: v["values"].get("E_eff", math.nan) for k, v in orders.items()}
-    elif refit_order is not None and fit.misfit is not None and not fit.misfit.ok:
+    elif refit_order is not None and (always or poor):
         tried = {k: refit_order(k) for k in (1, 2, 3, 4) if k != stated}
         tried = {k: f for k, f in tried.items() if f is not None}
         aic = {stated: fit.aic, **{k: f.aic for k, f in tried.items()}}
@@ -359,6 +369,27 @@ def _pull(fit, name):
     stated, u = fit.priors[name]
     value = float(fit.theta[fit.names.index(name)])
     return (value - stated) / u, value, stated
+
+
+def _impulse_text(fit, key, v) -> str:
+    """What an impulse mismatch of channel ``key`` is (row ``v`` of :func:`impulse_mismatch`)."""
+    if abs(v["measured_Ns"] - v["model_Ns"]) > 3.0 * v["sigma_Ns"]:
+        return (
+            f"the model's {key} over the contact is {v['model_Ns']:.5g} N s against the "
+            f"measured {v['measured_Ns']:.5g} ± {v['sigma_Ns']:.2g} N s ({v['relative']:+.2%})"
+        )
+    pulls = [(n, p) for n in fit.priors if (p := _pull(fit, n)) is not None and abs(p[0]) > 2.0]
+    moved = ", ".join(f"{n} {p[0]:+.1f} σ" for n, p in sorted(pulls, key=lambda q: -abs(q[1][0])))
+    text = (
+        f"with the stated inputs the model's {key} over the contact is {v['stated_Ns']:.5g} N s "
+        f"against the measured {v['measured_Ns']:.5g} ± {v['stated_sigma_Ns']:.2g} N s "
+        f"(their tolerances included; {v['stated_relative']:+.2%})"
+    )
+    if "e_impulse" in v and "e" in fit.values:
+        text += f": the impulse says e ≈ {v['e_impulse']:.3f}, the fit {fit.values['e']:.3f}"
+    if moved:
+        text += f" — it moved {moved} from the stated values to match it"
+    return text
 
 
 def _crosstalk_text(fit, k) -> str:
@@ -391,36 +422,67 @@ def _crosstalk_text(fit, k) -> str:
 def impulse_mismatch(fit) -> dict:
     """The model's percussion over the contact against the measured integral of the force,
     per channel: {"Pn"/"Pt": {"model_Ns", "measured_Ns", "sigma_Ns", "relative",
-    "mismatch"}} (module notes). The span runs from the fitted onset to the contact's end
-    plus the filter's ring; the measured integral is taken less the fit's own baseline; σ
-    is the noise's (at its long-run variance where it is coloured) over the span and the
-    baseline's error carried over it."""
+    "stated_Ns", "stated_sigma_Ns", "stated_relative", "e_impulse" (Pn only),
+    "mismatch"}} (module notes).
+
+    Two comparisons. The fitted model's own percussion (``model_Ns``): the span runs from
+    the fitted onset to the contact's end plus the filter's ring; the measured integral is
+    taken less the fit's own baseline; σ is the noise's (at its long-run variance where it
+    is coloured) over the span and the baseline's error carried over it. And the same
+    model with every input known to a tolerance (speed, mass, gains, leaks, ...) back at
+    its stated value (``stated_Ns``), σ widened by what each tolerance moves the
+    percussion by: a fit can match the impulse with a contact that contradicts it by
+    pulling the speed or a gain beyond its tolerance (a wrong law whose e sticks at 1
+    does), and only the stated inputs see that. ``e_impulse`` is the restitution the
+    measured Pn implies at the stated inputs, (1 + e)·measured/stated − 1."""
     data = fit.data
     P = fit._P()
-    sol = fit.model.solve([data], [P])[0]
-    preds = fit.model.predict(data, P, sol)
+    stated = P[:1].copy()
+    names = [n for n in fit.priors if n in _I]
+    for n in names:
+        stated[0, _I[n]] = fit.priors[n][0]
+    rows = [P[:1], stated]
+    for n in names:
+        bumped = stated.copy()
+        bumped[0, _I[n]] += fit.priors[n][1]
+        rows.append(bumped)
+    Ps = np.concatenate(rows)
+    sol = fit.model.solve([data], [Ps])[0]
+    preds = fit.model.predict(data, Ps, sol)
     t0 = float(P[0, 5])
     t_end = t0 + float(fit.physics["t_c"]) + data.sensor.ring_time()
     out = {}
     for c, m, key in zip(data.channels, preds, ("Pn", "Pt"), strict=False):
-        m = m[0]
         span = (c.t >= t0) & (c.t <= t_end)
         n_span = int(span.sum())
         if n_span < 3:
             continue
         dt = float(np.median(np.diff(c.t)))
-        model = float(np.sum(m[span]) * dt)
-        diff = float(np.sum(c.project(c.y - m)[span]) * dt)
+        integral = np.sum(m[:, span], axis=1) * dt
+        model, at_stated = float(integral[0]), float(integral[1])
+        diff = float(np.sum(c.project(c.y - m[0])[span]) * dt)
         nm = c.noise
         lr = 1.0 if nm.white else nm.innovation / abs(1.0 - float(np.sum(nm.phi)))
         var = float(np.sum(np.broadcast_to(c.sigma, c.t.shape)[span] ** 2))
         s = lr * dt * math.sqrt(var * (1.0 + n_span / max(c.t.size, 1)))
+        measured = model + diff
+        s_stated = math.sqrt(s * s + float(np.sum((integral[2:] - at_stated) ** 2)))
         rel = diff / model if model else math.nan
-        out[key] = {
+        rel_stated = (measured - at_stated) / at_stated if at_stated else math.nan
+        row = {
             "model_Ns": model,
-            "measured_Ns": model + diff,
+            "measured_Ns": measured,
             "sigma_Ns": s,
             "relative": rel,
-            "mismatch": bool(abs(diff) > 3.0 * s and abs(rel) > IMPULSE_FLOOR),
+            "stated_Ns": at_stated,
+            "stated_sigma_Ns": s_stated,
+            "stated_relative": rel_stated,
+            "mismatch": bool(
+                (abs(diff) > 3.0 * s and abs(rel) > IMPULSE_FLOOR)
+                or (abs(measured - at_stated) > 3.0 * s_stated and abs(rel_stated) > IMPULSE_FLOOR)
+            ),
         }
+        if key == "Pn" and fit.model.normal is not None:
+            row["e_impulse"] = (1.0 + float(P[0, _I["e"]])) * measured / at_stated - 1.0
+        out[key] = row
     return out
