@@ -41,7 +41,6 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from . import figures
 from ._atomic import atomic_dir, atomic_write_text, clean_stale
 from ._json import json_ready
 from .advice import advice_for
@@ -410,6 +409,8 @@ def reproduce(
     summary["fitted_parameters"] = fitted = fitted_parameters(files, n_boot=n_boot, seed=seed)
     with atomic_dir(out) as stage:
         if a is not None:
+            from . import figures  # matplotlib: only where figures are drawn
+
             figs = {
                 "fig4_percussion_plane.png": figures.fig4_percussion_plane(),
                 "fig6_disc_velocity.png": figures.fig6_disc_velocity(),

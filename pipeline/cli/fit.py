@@ -52,7 +52,6 @@ def _sensor(args):
 
 
 def run(args) -> int:
-    from .. import figures
     from .._atomic import atomic_write_text
     from ..errors import InputError
     from ..fit import fit_contact, select_model
@@ -85,6 +84,8 @@ def run(args) -> int:
             summary = fit.summary()
     text = head + fit.report()
     if args.out is not None:
+        from .. import figures  # matplotlib: only where a figure is drawn
+
         args.out.mkdir(parents=True, exist_ok=True)
         atomic_write_text(args.out / "fit.json", json.dumps(summary, indent=1, allow_nan=False))
         atomic_write_text(args.out / "fit.txt", text + "\n")
