@@ -502,9 +502,7 @@ def _start(data: RecordData, model: ForwardModel, speed: float) -> dict:
             "speed": speed,
             "t0": mean - data.sensor.delay(),
         }
-    pul = normal_pulse(model.normal, e0, model.n_steps)  # the table the fit uses
-    tau = np.linspace(0.0, pul.tau_c[0], pul.n_steps + 1)
-    _, mt, wt = _moments(tau, pul.f[0])
+    mt, wt, peak = _pulse_moments(model.normal, e0, model.n_steps)
     T = width / wt
     ds = T * v0
     K = data.m_eff * v0 * v0 / ds**2.5
@@ -512,7 +510,7 @@ def _start(data: RecordData, model: ForwardModel, speed: float) -> dict:
     t0 = mean - mt * T - data.sensor.delay()
     mu0 = 0.1
     if model.tangential != "none" and len(data.channels) > 1:
-        mu0 = _mu_start(data, t0 + T * tau[np.argmax(pul.f[0])])
+        mu0 = _mu_start(data, t0 + T * peak)
     return {"E_eff": E0, "e": e0, "mu": mu0, "kt_scale": 1.0, "speed": speed, "t0": t0}
 
 
@@ -628,27 +626,35 @@ def fit_contact(
         raise InputError("tangential='none' is frictionless: mu cannot be fitted")
     check = bool(opts.pop("diagnose", True))
     opts["systematics"] = systematics
-    fit = fit_model(record, scene, model, vary, t_begin=t_begin, **opts)
+    data = _prepare(record, scene, model, opts)  # once: the verdict's fits share it
+    fit = fit_model(record, scene, model, vary, t_begin=t_begin, data=data, **opts)
     if not check:
         return fit
-    return _diagnosed(fit, record, scene, vary, opts, t_begin)
+    return _diagnosed(fit, record, scene, vary, opts, t_begin, data)
 
 
-def fit_model(record, scene, model, vary, *, t_begin=None, **options) -> ContactFit:
+#: The options of :func:`fit_contact` that choose the samples, their weights and the sensor
+#: model (:func:`pipeline.fit.forward.prepare`'s).
+_PREPARE = ("sensor", "noise", "margin", "baseline", "oversample", "window_options")
+
+
+def _prepare(record, scene, model, options) -> RecordData:
+    """The record prepared for fitting ``model`` with the options given."""
+    given = {k: options[k] for k in _PREPARE if k in options}
+    return prepare(record, scene, channels=model.channels, **given)
+
+
+def fit_model(record, scene, model, vary, *, t_begin=None, data=None, **options) -> ContactFit:
     """Fit ``model`` (a :class:`~pipeline.fit.forward.ForwardModel`, or the rigid model of
     :mod:`pipeline.fit.select`) to one record: the work behind :func:`fit_contact`, whose
-    options it takes."""
+    options it takes. ``data``: the record already prepared with those options
+    (:func:`pipeline.fit.forward.prepare`), as the verdict's fits share it."""
     t_begin = time.perf_counter() if t_begin is None else t_begin
     opts = dict(options)
-    sensor = opts.pop("sensor", None)
-    noise = opts.pop("noise", None)
-    margin = opts.pop("margin", None)
-    baseline = opts.pop("baseline", None)
-    oversample = int(opts.pop("oversample", 4))
+    given = {k: opts.pop(k) for k in _PREPARE if k in opts}
     n_boot = int(opts.pop("n_boot", 200))
     seed = int(opts.pop("seed", 0))
     start = dict(opts.pop("start", None) or {})
-    window_options = opts.pop("window_options", None)
     systematics = opts.pop("systematics", None)
     time_error = opts.pop("time_error", None)
     if opts:
@@ -657,17 +663,8 @@ def fit_model(record, scene, model, vary, *, t_begin=None, **options) -> Contact
         )
     normal, tangential = model.normal, model.tangential
     use_alpha = "alpha" in vary
-    data = prepare(
-        record,
-        scene,
-        channels=model.channels,
-        sensor=sensor,
-        margin=margin,
-        oversample=oversample,
-        noise=noise,
-        window_options=window_options,
-        baseline=baseline,
-    )
+    if data is None:
+        data = _prepare(record, scene, model, given)
     notes = list(data.notes)
     design = _Single(data, normal, use_alpha)
     s0 = _start(data, model, float(scene.speed))
@@ -801,36 +798,78 @@ def _geometry(fit, scene) -> dict | None:
     return {**out, "tol_t": tol_t, "exceeds": bool(out["e_n"] > tol or out["e_t"] > tol_t)}
 
 
-def _diagnosed(fit, record, scene, vary, options, t_begin) -> ContactFit:
+def _warm_start(fit, model, vary) -> dict:
+    """Starting values of ``model``'s fit of the same record from ``fit``'s optimum (the
+    verdict's fits: inputs taken as exact, another law, another filter order), for the
+    parameters in ``vary``.
+
+    The same law: ``fit``'s contact parameters. Another law: its pulse started where
+    ``fit``'s lies — the same restitution (every law's percussion is (1 + e)·m*·v0), and
+    the time scale and onset that give the same centroid and RMS width (the moments
+    :func:`_start` matches on the record, here on the fitted, noise-free pulse:
+    E* ∝ T^(−5/2) at one speed); μ and ``kt_scale`` as fitted. Another filter order delays
+    the pulse differently: the onset moves by the difference of the delays."""
+    theta = dict(zip(fit.names, (float(v) for v in fit.theta), strict=True))
+    out = {n: theta[n] for n in ("E_eff", "e", "alpha", "mu", "kt_scale", "t0") if n in theta}
+    if model.normal != fit.normal and fit.normal is not None and model.normal is not None:
+        e = float(fit.physics["e_n"]) if "alpha" in fit.names else theta["e"]
+        e = min(max(e, E_MIN), 1.0)
+        mean, width, _ = _pulse_moments(fit.normal, e, fit.model.n_steps)
+        mean_l, width_l, _ = _pulse_moments(model.normal, e, model.n_steps)
+        ds, T, Fs, v0 = (float(a[0]) for a in fit.model.scales(fit.data, fit._P()))
+        T_l = T * width / width_l
+        out.update(e=e, E_eff=theta["E_eff"] * (T / T_l) ** 2.5)
+        out["t0"] = theta["t0"] + mean * T - mean_l * T_l
+    return {n: v for n, v in out.items() if n in vary}
+
+
+def _pulse_moments(law, e, n_steps) -> tuple[float, float, float]:
+    """(centroid, RMS width, instant of the peak) of ``law``'s dimensionless pulse at
+    restitution ``e`` [δ*/v0], on the fit's table."""
+    pul = normal_pulse(law, e, n_steps)
+    tau = np.linspace(0.0, pul.tau_c[0], pul.n_steps + 1)
+    _, mean, width = _moments(tau, pul.f[0])
+    return mean, width, float(tau[np.argmax(pul.f[0])])
+
+
+def _diagnosed(fit, record, scene, vary, options, t_begin, data) -> ContactFit:
     """``fit`` with its model spread and verdict (pipeline.fit.verdict): the other laws'
     fits, and the other filter orders' where the filter shapes the pulse (or the fit is
-    poor)."""
-    quiet = {k: v for k, v in options.items() if k not in ("n_boot", "seed")}
+    poor). Every one of them fits the record as prepared for ``fit`` (``data``) from a
+    start at ``fit``'s optimum (:func:`_warm_start`)."""
+    quiet = {k: v for k, v in options.items() if k not in ("n_boot", "seed", *_PREPARE)}
     m = fit.model
+    spec = data.sensor
 
-    def refit(model, **extra):
+    def refit(model, start_from=fit, order=None, **extra):
         alt_vary = tuple("e" if v == "alpha" and model.normal != m.normal else v for v in vary)
+        warm = _warm_start(start_from, model, alt_vary)
+        seen = data
+        if order is not None:
+            seen = data.with_sensor(dataclasses.replace(spec, filter_order=order, notes=()))
+            if "t0" in warm:  # another order delays the pulse by another time
+                warm["t0"] += start_from.data.sensor.delay() - seen.sensor.delay()
+        opts = {**quiet, **extra, "start": {**quiet.get("start", {}), **warm}}
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", PipelineWarning)
             try:
-                return fit_model(record, scene, model, alt_vary, n_boot=0, **{**quiet, **extra})
+                return fit_model(record, scene, model, alt_vary, n_boot=0, data=seen, **opts)
             except InputError:
                 return None
 
-    laws, spec = alternative_laws(m.normal), fit.data.sensor
+    laws = alternative_laws(m.normal)
     orders = alternative_orders(fit)
     own = refit(m, systematics={}) if laws or orders else None
     exact = {m.normal: own} if laws else {}
     for law in laws:
-        exact[law] = refit(ForwardModel(law, m.tangential, m.history, m.n_steps), systematics={})
+        other = ForwardModel(law, m.tangential, m.history, m.n_steps)
+        exact[law] = refit(other, own or fit, systematics={})
     exact = {k: f for k, f in exact.items() if f is not None}
     spread, table = model_spread(fit, exact) if m.normal in exact else ({}, {})
     # the filter orders, where the filter shapes the pulse: their spread adds to the laws'
     by_order = {spec.filter_order: own} if orders else {}
     for k in orders:
-        by_order[k] = refit(
-            m, systematics={}, sensor=dataclasses.replace(spec, filter_order=k, notes=())
-        )
+        by_order[k] = refit(m, own or fit, order=k, systematics={})
     by_order = {k: f for k, f in by_order.items() if f is not None}
     order_table = {}
     if spec.filter_order in by_order:
@@ -840,13 +879,13 @@ def _diagnosed(fit, record, scene, vary, options, t_begin) -> ContactFit:
     def refit_order(order, law=None):
         if not spec.filtered:
             return None
-        model = (
-            m if law in (None, m.normal) else ForwardModel(law, m.tangential, m.history, m.n_steps)
-        )
-        return refit(model, sensor=dataclasses.replace(spec, filter_order=order, notes=()))
+        if law in (None, m.normal):
+            return refit(m, by_order.get(order, fit), order=order)
+        other = ForwardModel(law, m.tangential, m.history, m.n_steps)
+        return refit(other, exact.get(law, fit), order=order)
 
     def refit_law(law):
-        return refit(ForwardModel(law, m.tangential, m.history, m.n_steps))
+        return refit(ForwardModel(law, m.tangential, m.history, m.n_steps), exact.get(law, fit))
 
     fit = dataclasses.replace(fit, model_spread=spread, alternatives=table)
     verdict = diagnose(

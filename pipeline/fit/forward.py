@@ -46,6 +46,7 @@ G. H. Golub, V. Pereyra, SIAM J. Numer. Anal. 10:413 (1973), doi:10.1137/0710036
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 
@@ -273,6 +274,15 @@ class RecordData:
         out[_I["leak"]] = out[_I["leak_tn"]] = out[_I["time_base"]] = 0.0
         out[_I["bandwidth"]] = float(self.sensor.bandwidth)
         return out
+
+    def with_sensor(self, spec: SensorSpec) -> RecordData:
+        """The same samples seen through the sensor ``spec`` (another filter order, say):
+        the filter's discretisation follows it, the window, samples and weights are
+        shared (the verdict's refits use it instead of preparing the record again)."""
+        sos = None
+        if self.fine is not None and spec.filtered:
+            sos = spec.sos(float(self.fine[1] - self.fine[0]) if self.fine.size > 1 else 1.0)
+        return dataclasses.replace(self, sensor=spec, sos=sos)
 
     def slip0(self, speed):
         """Initial slip of the contact point [m/s] at impact speed ``speed`` (docs/theory.md)."""
