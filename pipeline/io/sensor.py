@@ -76,7 +76,8 @@ from ._common import (
     scene_attrs,
 )
 from .metadata import check_sample_rate, stated_bandwidth
-from .units import resolve_unit, split_unit, time_factor
+from .sensitivity import by_column, parse_sensitivity, sensitivity_attr
+from .units import resolve_force, resolve_unit, split_unit, time_factor
 
 __all__ = ["read_sensor", "write_sensor", "DEFAULT_AXES"]
 
@@ -167,6 +168,7 @@ def read_sensor(
     axes=None,
     encoding=None,
     decouple=None,
+    sensitivity=None,
     _crop=None,
     **scene_fields,
 ):
@@ -188,6 +190,9 @@ def read_sensor(
         The sensor's 3×3 decoupling matrix (or a file holding it, see
         :func:`pipeline.io.read_decoupling`), applied to the raw (Fx, Fy, Fz) in N before
         the axis map; its provenance goes in the attributes (``decouple_*``).
+    sensitivity : dict, optional
+        ``{"Fn": (0.225, "mV/N")}`` for columns recorded in volts (``Fz [V]``; see
+        :mod:`pipeline.io.sensitivity`); recorded in ``attrs["sensitivity"]``.
     **scene_fields : float
         Scene fields stored in the record's attributes (names as :class:`pipeline.Scene`).
 
@@ -208,6 +213,7 @@ def read_sensor(
     """
     scene = scene_attrs(scene_fields)
     matrix = None if decouple is None else read_decoupling(decouple)
+    sens = parse_sensitivity(sensitivity)
     head = _stream_head(path) if encoding is None else None
     if head is not None:  # a large UTF-8 file: the parser reads it, not a copy in memory
         p, raw, sha = file_path(path), head, BackgroundHash(file_path(path))
@@ -223,6 +229,7 @@ def read_sensor(
         scene=scene,
         encoding=encoding,
         decouple=matrix,
+        sensitivity=sens,
         head_only=head is not None,
         crop=_crop,
     )
@@ -545,6 +552,7 @@ def parse_sensor_bytes(
     encoding=None,
     fmt="sensor_csv",
     decouple=None,
+    sensitivity=None,
     head_only=False,
     crop=None,
 ):
@@ -556,7 +564,8 @@ def parse_sensor_bytes(
     if head_only and body_offset + 4096 > len(raw):  # the head does not hold the header
         return parse_sensor_bytes(
             read_raw(p)[1], p, sha, time_unit=time_unit, force_unit=force_unit, axes=axes,
-            scene=scene, encoding=encoding, fmt=fmt, decouple=decouple, crop=crop,
+            scene=scene, encoding=encoding, fmt=fmt, decouple=decouple,
+            sensitivity=sensitivity, crop=crop,
         )  # fmt: skip
     meta, header, header_line, body_start, sep = _split_head(head, p)
     if full_text is not None:
@@ -579,7 +588,7 @@ def parse_sensor_bytes(
         return _parse_table(
             body, body_source, body_offset, full_text, meta, header, header_line, sep, p,
             sha, time_unit=time_unit, force_unit=force_unit, axes=axes, scene=scene,
-            fmt=fmt, decouple=decouple, crop=crop,
+            fmt=fmt, decouple=decouple, sensitivity=sensitivity, crop=crop,
         )  # fmt: skip
     finally:
         body_source.close()
@@ -587,7 +596,7 @@ def parse_sensor_bytes(
 
 def _parse_table(
     body, body_source, body_offset, full_text, meta, header, header_line, sep, p, sha, *,
-    time_unit, force_unit, axes, scene, fmt, decouple, crop=None,
+    time_unit, force_unit, axes, scene, fmt, decouple, sensitivity=None, crop=None,
 ):  # fmt: skip
     """The table after the head: columns, units, the parse, the checks, the record."""
     sep = sep or _sniff_separator(header, p, header_line)
@@ -611,10 +620,21 @@ def _parse_table(
                 line=header_line,
             )
         needed += [c for c in DECOUPLE_AXES if c not in needed]
+    col_sens = by_column(parse_sensitivity(sensitivity, path=p), chosen, list(columns), p)
+    feeds = {col: name for name, (col, _) in chosen.items()}
+    if unused := [c for c in col_sens if c not in needed]:
+        raise InputError(
+            f"sensitivity given for column {columns[unused[0]][1]!r}, which the record does "
+            "not read",
+            path=p,
+        )
     f_factors = {}  # file column → (factor to N, unit)
     for col in needed:
         _, h, unit = columns[col]
-        f_factors[col] = resolve_unit("force", unit, force_unit, path=p, column=h, line=header_line)
+        f_factors[col] = resolve_force(
+            unit, force_unit, col_sens.get(col), path=p, column=h, line=header_line,
+            channel=feeds.get(col),
+        )  # fmt: skip
     f_units = {f_factors[col][1] for col, _ in chosen.values()}
 
     # The body: pandas' C parser, no Python loop over rows.
@@ -753,6 +773,10 @@ def _parse_table(
     )
     if ignored:
         attrs["ignored_columns"] = ",".join(ignored)
+    if col_sens:
+        attrs["sensitivity"] = sensitivity_attr(
+            {feeds.get(c, columns[c][1]): s for c, s in col_sens.items()}
+        )
     attrs.update(decouple_attrs)
     attrs.update(crop_attrs)
     attrs.update(meta)

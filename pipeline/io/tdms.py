@@ -40,7 +40,8 @@ from ._common import (
     resolve_axes,
     scene_attrs,
 )
-from .units import force_factor, resolve_unit, split_unit, time_factor
+from .sensitivity import by_column, parse_sensitivity, sensitivity_attr
+from .units import resolve_force, resolve_unit, signal_factor, split_unit, time_factor
 
 __all__ = ["read_tdms"]
 
@@ -153,7 +154,7 @@ def _unit(ch, kind, p=None):
     """Unit of a channel: its ``unit_string`` property, else a unit in its name
     (``Fz (kN)``) when that is a recognised ``kind`` unit; a clash between the two is an
     InputError (when ``p`` is given)."""
-    factor_of = time_factor if kind == "time" else force_factor
+    factor_of = time_factor if kind == "time" else signal_factor
     prop = _prop(ch, "unit_string") or None
     _, named = split_unit(ch.name)
     if named is not None and factor_of(named) is None:
@@ -183,6 +184,7 @@ def read_tdms(
     axes=None,
     group=None,
     decouple=None,
+    sensitivity=None,
     **scene_fields,
 ):
     """Read an NI TDMS file into a record.
@@ -201,6 +203,9 @@ def read_tdms(
     decouple : array_like or path, optional
         The sensor's 3×3 decoupling matrix (see :func:`pipeline.io.read_decoupling`),
         applied to the raw (Fx, Fy, Fz) in N before the axis map.
+    sensitivity : dict, optional
+        ``{"Fn": (0.225, "mV/N")}`` for channels whose ``unit_string`` is volts (see
+        :mod:`pipeline.io.sensitivity`); recorded in ``attrs["sensitivity"]``.
     **scene_fields : float
         Scene fields stored in the attributes (names as :class:`pipeline.Scene`).
 
@@ -217,6 +222,7 @@ def read_tdms(
     """
     scene = scene_attrs(scene_fields)
     matrix, decouple_attrs = (None, {}) if decouple is None else read_decoupling(decouple)
+    sens = parse_sensitivity(sensitivity)
     p, raw, sha = read_raw(path)
     tdms = _open(raw, p)
     try:
@@ -250,6 +256,8 @@ def read_tdms(
             )
     g, force_chs, time_ch = found[0]
     chosen = resolve_axes(force_chs, axes, p)
+    col_sens = by_column(sens, chosen, list(force_chs), p)
+    feeds = {col: name for name, (col, _) in chosen.items()}
     needed = [col for col, _ in chosen.values()]
     if matrix is not None:
         missing = [c for c in DECOUPLE_AXES if c not in force_chs]
@@ -260,6 +268,12 @@ def read_tdms(
                 path=p,
             )
         needed += [c for c in DECOUPLE_AXES if c not in needed]
+    if unused := [c for c in col_sens if c not in needed]:
+        raise InputError(
+            f"sensitivity given for channel {force_chs[unused[0]].name!r}, which the record "
+            "does not read",
+            path=p,
+        )
     try:
         data = {col: np.asarray(force_chs[col][:], dtype=float) for col in needed}
     except (TypeError, ValueError) as exc:
@@ -339,8 +353,13 @@ def read_tdms(
     si, units = {}, {}
     for col in needed:
         ch = force_chs[col]
-        factor, unit = resolve_unit(
-            "force", _unit(ch, "force", p), force_unit, path=p, column=ch.name
+        factor, unit = resolve_force(
+            _unit(ch, "force", p),
+            force_unit,
+            col_sens.get(col),
+            path=p,
+            column=ch.name,
+            channel=feeds.get(col),
         )
         units[col] = unit
         values = data[col]
@@ -363,6 +382,10 @@ def read_tdms(
     attrs["source_time_unit"] = t_unit
     attrs["source_force_unit"] = ",".join(sorted(units))
     attrs["tdms_group"] = g.name
+    if col_sens:
+        attrs["sensitivity"] = sensitivity_attr(
+            {feeds.get(c, force_chs[c].name): s for c, s in col_sens.items()}
+        )
     attrs.update(decouple_attrs)
     attrs["axes"] = ",".join(
         f"{name}={'-' if sign < 0 else ''}{force_chs[col].name}"

@@ -1,9 +1,12 @@
-"""Units of time and force found in file headers, and their SI factors.
+"""Units of time, force and voltage found in file headers, and their SI factors.
 
 A column name carries its unit in square brackets or parentheses: ``time [s]``,
 ``Fz (kN)``, ``t [us]``, ``t [µs]`` (micro sign U+00B5) or ``t [μs]`` (Greek mu U+03BC).
-:func:`split_unit` separates name and unit; :func:`time_factor` and :func:`force_factor`
-give the factor that converts a value in that unit to seconds or newtons.
+:func:`split_unit` separates name and unit; :func:`time_factor`, :func:`force_factor` and
+:func:`volt_factor` give the factor that converts a value in that unit to seconds, newtons
+or volts. A force channel recorded in volts (``Fz [V]``, LabVIEW's ``Volts``) becomes
+newtons only through its stated sensitivity (:mod:`pipeline.io.sensitivity`):
+:func:`resolve_force` asks for one and names the column when it is missing.
 """
 
 from __future__ import annotations
@@ -19,6 +22,10 @@ __all__ = [
     "time_factor",
     "force_factor",
     "resolve_unit",
+    "VOLT_UNITS",
+    "volt_factor",
+    "resolve_force",
+    "signal_factor",
 ]
 
 #: Time units → factor to seconds.
@@ -42,9 +49,33 @@ FORCE_UNITS = {
     "lbf": 4.4482216152605,  # international pound-force, exact by definition
 }
 
-# Case-insensitive aliases that are unambiguous ("mn" is not: mN or MN).
+#: Voltage units → factor to volts: a force channel in one of these needs its sensitivity.
+VOLT_UNITS = {"V": 1.0, "mV": 1e-3, "uV": 1e-6, "\u00b5V": 1e-6, "\u03bcV": 1e-6}
+
+# Case-insensitive aliases that are unambiguous ("mn" is not: mN or MN). LabVIEW writes
+# unit labels as words ("Newtons", "Volts").
 _TIME_LOWER = {k.lower(): v for k, v in TIME_UNITS.items()}
-_FORCE_LOWER = {"n": 1.0, "kn": 1e3, "dan": 10.0, "lbf": FORCE_UNITS["lbf"]}
+_FORCE_LOWER = {
+    "n": 1.0,
+    "kn": 1e3,
+    "dan": 10.0,
+    "lbf": FORCE_UNITS["lbf"],
+    "newton": 1.0,
+    "newtons": 1.0,
+    "kilonewton": 1e3,
+    "kilonewtons": 1e3,
+}
+_VOLT_LOWER = {
+    "v": 1.0,
+    "volt": 1.0,
+    "volts": 1.0,
+    "mv": 1e-3,  # no rig records megavolts
+    "millivolt": 1e-3,
+    "millivolts": 1e-3,
+    "uv": 1e-6,
+    "\u00b5v": 1e-6,
+    "\u03bcv": 1e-6,
+}
 
 _UNIT_RE = re.compile(r"^\s*(?P<name>.*?)\s*[\[(]\s*(?P<unit>[^\])]*?)\s*[\])]\s*$")
 
@@ -75,6 +106,112 @@ def force_factor(unit: str) -> float | None:
     if u in FORCE_UNITS:
         return FORCE_UNITS[u]
     return _FORCE_LOWER.get(u.lower())
+
+
+def volt_factor(unit: str) -> float | None:
+    """Factor from ``unit`` to volts, or ``None`` when ``unit`` is not a voltage unit."""
+    u = _normalise(unit)
+    if u in VOLT_UNITS:
+        return VOLT_UNITS[u]
+    return _VOLT_LOWER.get(u.lower())
+
+
+def signal_factor(unit) -> tuple[float, str] | None:
+    """``(factor, "force")`` to newtons or ``(factor, "volt")`` to volts of a force channel's
+    unit; None when ``unit`` is neither."""
+    if not isinstance(unit, str):
+        return None
+    if (f := force_factor(unit)) is not None:
+        return f, "force"
+    if (v := volt_factor(unit)) is not None:
+        return v, "volt"
+    return None
+
+
+def resolve_force(
+    found: str | None,
+    given: str | None,
+    sensitivity=None,
+    *,
+    path,
+    column=None,
+    line=None,
+    channel=None,
+) -> tuple[float, str]:
+    """The factor that takes a force column to newtons, and its unit as written.
+
+    As :func:`resolve_unit` for forces, and a column in volts (``V``, ``mV``, ``Volts``)
+    is converted through its ``sensitivity`` (a
+    :class:`~pipeline.io.sensitivity.Sensitivity`): F [N] = U [V] · newtons_per_volt.
+
+    Parameters
+    ----------
+    found : str or None — the unit written in the file
+    given : str or None — ``force_unit=`` (a force or a voltage unit)
+    sensitivity : Sensitivity or None — the column's stated sensitivity
+    path, column, line — for messages
+    channel : str, optional — the record channel the column feeds (``"Fn"``), for messages
+
+    Raises
+    ------
+    InputError
+        No unit anywhere, a unit that is neither a force nor a voltage, a clash between the
+        file and ``force_unit=``, a column in volts without a sensitivity, or a sensitivity
+        for a column already in a force unit.
+    """
+    known = f"{', '.join(FORCE_UNITS)} (or {', '.join(list(VOLT_UNITS)[:3])} with a sensitivity)"
+    if given is not None and signal_factor(given) is None:
+        raise InputError(f"force_unit={given!r} is not a force unit; use one of {known}", path=path)
+    if found is not None:
+        sig = signal_factor(found)
+        if sig is None:
+            raise InputError(
+                f"unit {found!r} is not a force unit; use one of {known}",
+                path=path,
+                line=line,
+                column=column,
+            )
+        if given is not None and signal_factor(given) != sig:
+            raise InputError(
+                f"the file gives force in {found!r} but force_unit={given!r} was passed; "
+                "drop force_unit (units in the file win) or correct the file",
+                path=path,
+                line=line,
+                column=column,
+            )
+        unit = found
+    elif given is None:
+        raise InputError(
+            f"no force unit in the file; give force_unit= (one of {known})",
+            path=path,
+            line=line,
+            column=column,
+        )
+    else:
+        unit, sig = given, signal_factor(given)
+    factor, kind = sig
+    who = f"{channel} (column {column!r})" if channel and column else repr(column or channel)
+    if kind == "volt":
+        if sensitivity is None:
+            raise InputError(
+                f"{who} is in volts ({unit!r}), not a force unit: give the channel's "
+                f"sensitivity, e.g. sensitivity={{{(channel or 'Fn')!r}: (0.225, 'mV/N')}} "
+                '(units mV/N, V/N, N/V or N/mV; the sidecar\'s "sensitivity" or the '
+                "command line's --sensitivity)",
+                path=path,
+                line=line,
+                column=column,
+            )
+        return factor * sensitivity.newtons_per_volt, unit
+    if sensitivity is not None:
+        raise InputError(
+            f"{who} is already a force in {unit!r}: its sensitivity {sensitivity} applies "
+            "only to a channel recorded in volts; drop it",
+            path=path,
+            line=line,
+            column=column,
+        )
+    return factor, unit
 
 
 def resolve_unit(
