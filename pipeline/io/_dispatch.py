@@ -7,14 +7,19 @@ import re
 
 from ..errors import InputError
 from ._common import LINE_END, decode, file_path, scene_attrs
+from .lvm import MAGIC, read_lvm
+from .mat import HDF5_SIGNATURE, is_mat_bytes, read_mat
+from .sensitivity import parse_sensitivity
 from .sensor import read_sensor
 from .tdms import read_tdms
 from .wpd import is_datasets_text, read_wpd
 
-__all__ = ["FORMATS", "load", "sniff_format"]
+__all__ = ["FORMATS", "RECORD_SUFFIXES", "load", "sniff_format"]
 
 #: Formats :func:`load` recognises.
-FORMATS = ("sensor_csv", "wpd", "wpd_datasets", "tdms")
+FORMATS = ("sensor_csv", "wpd", "wpd_datasets", "tdms", "lvm", "mat")
+#: File suffixes a folder of records is searched for (campaigns, ``make reproduce``).
+RECORD_SUFFIXES = (".csv", ".tdms", ".lvm", ".mat")
 
 _HEAD = 65536
 _NUMERIC = re.compile(r"^\s*\"?\s*[+-]?(?:\d+(?:[.,]\d*)?|[.,]\d+)(?:[eE][+-]?\d+)?\s*\"?\s*$")
@@ -26,15 +31,17 @@ def sniff_format(path) -> str:
     Returns
     -------
     str
-        ``"tdms"`` (starts with the ``TDSm`` tag), ``"wpd_datasets"`` (second line
-        ``X,Y,...``), ``"wpd"`` (first line two numbers) or ``"sensor_csv"`` (a header row,
-        possibly after ``#`` metadata lines).
+        ``"tdms"`` (starts with the ``TDSm`` tag), ``"mat"`` (a MATLAB header, or HDF5 data
+        in a ``.mat`` file, or a ``.mat`` name), ``"lvm"`` (first line ``LabVIEW
+        Measurement``, or a ``.lvm`` name), ``"wpd_datasets"`` (second line ``X,Y,...``),
+        ``"wpd"`` (first line two numbers) or ``"sensor_csv"`` (a header row, possibly
+        after ``#`` metadata lines).
 
     Raises
     ------
     InputError
-        Missing file, a directory, an empty file, undecodable text, or a table of numbers
-        without a header (neither format).
+        Missing file, a directory, an empty file, undecodable text, an HDF5 file that is
+        not a MATLAB file, or a table of numbers without a header (neither format).
     """
     p = file_path(path)
     try:
@@ -49,8 +56,19 @@ def sniff_format(path) -> str:
         return "tdms"
     if not head.strip() and not more:
         raise InputError("file is empty; export the record again", path=p)
-    if p.suffix.lower() == ".tdms":
+    suffix = p.suffix.lower()
+    if suffix == ".tdms":
         return "tdms"  # read_tdms explains what is wrong with it
+    if is_mat_bytes(head) or suffix == ".mat":
+        return "mat"  # read_mat explains what is wrong with it
+    if HDF5_SIGNATURE in (head[:8], head[512:520]):
+        raise InputError(
+            "an HDF5 file that is not a MATLAB v7.3 file (no MATLAB header); a record is read "
+            "from .mat, .lvm, .tdms or CSV files — name it .mat if MATLAB wrote it",
+            path=p,
+        )
+    if head.removeprefix(b"\xef\xbb\xbf").startswith(MAGIC.encode()) or suffix == ".lvm":
+        return "lvm"  # read_lvm explains what is wrong with it
     if more and not head.startswith((b"\xff\xfe", b"\xfe\xff")):
         cut = max(head.rfind(b"\n"), head.rfind(b"\r"))  # a whole line: no cut character
         head = head[: cut + 1] if cut > 0 else head
@@ -59,6 +77,8 @@ def sniff_format(path) -> str:
         raise InputError("file is empty; export the record again", path=p)
     lines = [ln for ln in LINE_END.split(text) if ln.strip()]
     first = lines[0].strip()
+    if first.startswith(MAGIC):  # UTF-16 text
+        return "lvm"
     if first.startswith("#"):
         return "sensor_csv"
     if is_datasets_text(text):
@@ -86,6 +106,8 @@ def load(
     axes=None,
     channels=None,
     decouple=None,
+    sensitivity=None,
+    columns=None,
     **scene_fields,
 ):
     """Read a record file of any supported format.
@@ -112,6 +134,15 @@ def load(
         holding it (:func:`read_decoupling`). It maps the raw (Fx, Fy, Fz), in N, to
         corrected forces before the axis map; the attributes record it
         (``decouple_matrix``, ``decouple_axes``, ``decouple_source``, ``decouple_sha256``).
+    sensitivity : dict, optional
+        Channels recorded in volts: record channel (after ``axes``) → ``(value, unit)``,
+        unit ``"mV/N"``, ``"V/N"``, ``"N/V"`` or ``"N/mV"``: ``{"Fn": (0.225, "mV/N")}``
+        (:mod:`pipeline.io.sensitivity`). A channel in volts without one is an error
+        naming its column; the record keeps it in ``attrs["sensitivity"]``. Sensor CSV,
+        TDMS, LabVIEW and MATLAB files.
+    columns : list or dict, optional
+        MATLAB files: the names of a 2-D array's columns, as a CSV header writes them
+        (``["time [s]", "Fz [V]"]``, or ``{"data": [...]}``; see :mod:`pipeline.io.mat`).
     **scene_fields : float
         Scene fields (names as :meth:`pipeline.Scene.field_names`, SI units) stored in the
         record's attributes.
@@ -136,40 +167,40 @@ def load(
     >>> from pipeline.io import load
     >>> rec = load("data_samples/sensor_decimal_comma.csv", radius=0.0127)
     >>> rec = load("data_samples/wpd_datasets.csv", time_unit="us", force_unit="N")
+    >>> rec = load("data_samples/loadcell_drop.lvm", sensitivity={"Fn": (0.225, "mV/N"),
+    ...            "Ft": (0.5, "mV/N")})
     """
     scene_attrs(scene_fields)  # fail early on a bad keyword, before reading anything
+    sens = parse_sensitivity(sensitivity)
     if isinstance(path, dict | list | tuple):
-        _refuse(axes=axes, fmt="digitised exports", hint="use channels=")
-        _refuse(decouple=decouple, fmt="digitised exports", hint="they hold no raw axes")
-        return read_wpd(
-            path, time_unit=time_unit, force_unit=force_unit, channels=channels, **scene_fields
+        fmt = "digitised exports"
+    else:
+        fmt = sniff_format(path)
+    common = {"time_unit": time_unit, "force_unit": force_unit, **scene_fields}
+    if fmt != "mat":
+        _refuse(columns=columns, fmt=_NAMES.get(fmt, fmt), hint="it names a MATLAB array's columns")
+    if fmt in ("sensor_csv", "tdms", "lvm", "mat"):
+        _refuse(channels=channels, fmt=_NAMES[fmt], hint="use axes= to map columns")
+        reader = {"sensor_csv": read_sensor, "tdms": read_tdms, "lvm": read_lvm}.get(fmt)
+        extra = {"columns": columns} if fmt == "mat" else {}
+        return (reader or read_mat)(
+            path, axes=axes, decouple=decouple, sensitivity=sens, **extra, **common
         )
-    fmt = sniff_format(path)
-    if fmt == "sensor_csv":
-        _refuse(channels=channels, fmt="sensor CSV files", hint="use axes= to map columns")
-        return read_sensor(
-            path,
-            time_unit=time_unit,
-            force_unit=force_unit,
-            axes=axes,
-            decouple=decouple,
-            **scene_fields,
-        )
-    if fmt == "tdms":
-        _refuse(channels=channels, fmt="TDMS files", hint="use axes= to map channels")
-        return read_tdms(
-            path,
-            time_unit=time_unit,
-            force_unit=force_unit,
-            axes=axes,
-            decouple=decouple,
-            **scene_fields,
-        )
-    _refuse(axes=axes, fmt="digitised exports", hint="use channels= to name datasets")
+    hint = "use channels= to name datasets"
+    _refuse(axes=axes, fmt="digitised exports", hint=hint)
     _refuse(decouple=decouple, fmt="digitised exports", hint="they hold no raw axes")
-    return read_wpd(
-        path, time_unit=time_unit, force_unit=force_unit, channels=channels, **scene_fields
-    )
+    _refuse(sensitivity=sensitivity, fmt="digitised exports", hint="they hold forces, not volts")
+    return read_wpd(path, channels=channels, **common)
+
+
+_NAMES = {
+    "sensor_csv": "sensor CSV files",
+    "tdms": "TDMS files",
+    "lvm": "LabVIEW Measurement files",
+    "mat": "MATLAB files",
+    "wpd": "digitised exports",
+    "wpd_datasets": "digitised exports",
+}
 
 
 def _refuse(*, fmt, hint, **given):

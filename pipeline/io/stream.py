@@ -204,7 +204,7 @@ def load_contact(path, *, margin: int = DEFAULT_MARGIN, chunk_rows: int = CHUNK_
         Pulses after the kept segment (their instants in ``crop_later_pulses_s``).
     """
     fmt = sniff_format(path)
-    if fmt != "sensor_csv" or options.get("channels") is not None:
+    if fmt != "sensor_csv" or any(options.get(k) is not None for k in ("channels", "columns")):
         return _crop_loaded(load(path, **options), margin)
     cropper = Cropper(margin, chunk_rows)
     try:
