@@ -47,7 +47,7 @@ from .advice import advice_for
 from .analysis import Analysis, analyse
 from .errors import InputError
 from .fit import fit_contact
-from .io import load, load_contact, read_json
+from .io import RECORD_SUFFIXES, load, load_contact, read_json
 from .percussion import compression_split, percussions
 from .scene import Scene
 from .score import NEAR_ZERO
@@ -159,7 +159,20 @@ def outcomes_frame(a: Analysis) -> pd.DataFrame:
 # --------------------------------------------------------------------------- I/O helpers
 #: Keys a sidecar's ``"load"`` block may hold: :func:`pipeline.io.load`'s options, and
 #: ``"paths"`` ({channel: file}) to combine files of the same folder.
-LOAD_KEYS = ("paths", "time_unit", "force_unit", "axes", "channels", "decouple")
+LOAD_KEYS = (
+    "paths",
+    "time_unit",
+    "force_unit",
+    "axes",
+    "channels",
+    "decouple",
+    "sensitivity",
+    "columns",
+)
+#: Sidecar keys that are also read at its top level: ``"sensitivity"`` (the rig's, as
+#: ``{"Fn": [0.225, "mV/N"]}``) and, for a MATLAB record, ``"columns"`` (a 2-D array's
+#: column names; the samples' sidecars describe a CSV's columns under that key).
+SIDECAR_LOAD_KEYS = ("sensitivity", "columns")
 
 
 def sidecar_path(path) -> Path:
@@ -172,7 +185,9 @@ def read_sidecar(path) -> dict:
 
     Keys used here: ``"scene"`` (Scene fields, SI; ``"inf"`` allowed) and ``"load"``
     (keyword arguments of :func:`pipeline.io.load`, see :data:`LOAD_KEYS`; ``"paths"`` —
-    ``{channel: file}`` — combines several files of the same folder into one record).
+    ``{channel: file}`` — combines several files of the same folder into one record);
+    ``"sensitivity"`` and, beside a ``.mat`` record, ``"columns"`` may also stand at the
+    top level (:data:`SIDECAR_LOAD_KEYS`).
 
     Raises
     ------
@@ -231,7 +246,17 @@ def load_sample(path, *, contact_only: bool = False, **options):
     A bad option from the sidecar is reported with the sidecar named beside the record.
     """
     path = Path(path)
-    block = dict(read_sidecar(path).get("load", {}))
+    side = read_sidecar(path)
+    block = dict(side.get("load", {}))
+    for key in SIDECAR_LOAD_KEYS:  # the rig's sensitivity, a MATLAB array's column names
+        if key not in side or (key == "columns" and path.suffix.lower() != ".mat"):
+            continue  # a text record's sidecar describes its columns: no option
+        if key in block and block[key] != side[key]:
+            raise InputError(
+                f"{key!r} is given twice, at the top level and in 'load', differently; keep one",
+                path=sidecar_path(path),
+            )
+        block[key] = side[key]
     given = {k: v for k, v in options.items() if v is not None}
     kwargs = {**block, **given}
     paths = kwargs.pop("paths", None)
@@ -260,7 +285,7 @@ def sample_files(samples) -> list[Path]:
     files = sorted(
         p
         for p in samples.iterdir()
-        if p.suffix.lower() in (".csv", ".tdms") and not p.name.startswith(".") and p.is_file()
+        if p.suffix.lower() in RECORD_SUFFIXES and not p.name.startswith(".") and p.is_file()
     )
     parts = set()
     for p in files:
@@ -350,7 +375,8 @@ def reproduce(
     Parameters
     ----------
     samples : path
-        Folder of sample records (``*.csv``, ``*.tdms``; ``*.json`` are sidecars).
+        Folder of sample records (``*.csv``, ``*.tdms``, ``*.lvm``, ``*.mat``; ``*.json``
+        are sidecars).
     out : path
         Output folder: ``fig4_percussion_plane.png``, ``fig6_disc_velocity.png``,
         ``fig8_forces.png``, ``fig9_percussion_plane.png`` (when the main record was
@@ -384,7 +410,8 @@ def reproduce(
     samples, out = Path(samples), Path(out)
     files = sample_files(samples)
     if not files:
-        raise InputError(f"no sample records (*.csv, *.tdms) in {samples}")
+        patterns = ", ".join(f"*{s}" for s in RECORD_SUFFIXES)
+        raise InputError(f"no sample records ({patterns}) in {samples}")
     clean_stale(out)  # a killed run's staging folder goes now, not only when this one ends
     records, analyses = [], {}
     for path in files:

@@ -24,6 +24,20 @@ cross-talk of Fn. Files:
   and "Tangential force" (different instants, different lengths, blank padding).
 - sensor.tdms — NI TDMS written with npTDMS: group "Impact", channels Fx, Fy, Fz [N],
   1 MHz waveform (wf_start_offset = −20 µs, wf_increment = 1 µs), noise σ = 2 N.
+- sensor_volts.lvm — LabVIEW Measurement file as LabVIEW's Write To Measurement File
+  writes it on a decimal-comma Windows PC: file header and segment header, CRLF, tabs,
+  decimal commas, X_Columns No (time = X0 + k·Delta_X), a Comment column; channels Fz and
+  Fx in Volts from a sensor of 0.225 mV/N (Fz) and 0.5 mV/N (Fx), and a Trigger channel
+  in Volts; 1 MHz, X0 = −20 µs, noise σ = 2 N; 6 decimals (1 µV) as LabVIEW writes.
+- sensor_v5.mat — MATLAB v5 file (scipy.io.savemat): a row vector t_us [µs] and column
+  vectors Fz_kN, Fx_kN, Fy_kN in single precision, a char variable; 2 MHz, noise σ = 2 N.
+- sensor_v73.mat — MATLAB v7.3 file laid out as MATLAB writes one (h5py): 512-byte text
+  header, MATLAB_class attributes, arrays transposed, char as uint16; a struct "data" with
+  "raw", a 2-D array (samples × [time s, Fx V, Fy V, Fz V]) named by the sidecar's
+  "columns", and "operator"; sensitivities 0.5, 0.5 and 0.225 mV/N; 1 MHz, noise σ = 2 N.
+
+The LVM and MAT samples draw their noise from their own generators (seeds SEED + 1, + 2,
++ 3), so adding them left the earlier files byte-identical.
 """
 
 from __future__ import annotations
@@ -35,7 +49,7 @@ from pathlib import Path
 import numpy as np
 
 from pipeline import Scene
-from pipeline._atomic import atomic_path, atomic_write_text
+from pipeline._atomic import atomic_path, atomic_write_bytes, atomic_write_text
 from pipeline.contact import hertz_impact, hertz_pulse
 
 SEED = 20261122
@@ -159,6 +173,142 @@ def tdms(path, impact, rng):
         )
 
 
+#: The sensitivities of the volts samples' sensor [mV/N], per file column.
+SENSITIVITY = {"Fz": 0.225, "Fx": 0.5, "Fy": 0.5}
+_CRLF = "\r\n"
+
+
+def _lvm_number(x: float) -> str:
+    """A sample as LabVIEW writes it: 6 decimals, decimal comma (this PC's locale)."""
+    return f"{x:.6f}".replace(".", ",")
+
+
+def lvm(path, impact, rng):
+    """sensor_volts.lvm (see module notes)."""
+    dt, t0 = 1e-6, -20e-6
+    n = int(round((impact.t_c + 60e-6) / dt))
+    t = t0 + dt * np.arange(n)
+    fn, ft, _ = forces(t, impact)
+    noise = rng.normal(0.0, 2.0, size=(2, n))
+    volts = {
+        "Fz": (fn + noise[0]) * SENSITIVITY["Fz"] * 1e-3,
+        "Fx": (ft + noise[1]) * SENSITIVITY["Fx"] * 1e-3,
+        "Trigger": np.where(t >= 0.0, 5.0, 0.0),
+    }
+    names = list(volts)
+    stamp = "11:02:17,5081634521484375"
+
+    def row(tag, values):
+        return "\t".join([tag, *values, ""])
+
+    head = [
+        "LabVIEW Measurement\t",
+        "Writer_Version\t2",
+        "Reader_Version\t2",
+        "Separator\tTab",
+        "Decimal_Separator\t,",
+        "Multi_Headings\tYes",
+        "X_Columns\tNo",
+        "Time_Pref\tRelative",
+        "Operator\tA. Lab",
+        "Description\tdrop 3: 25.4 mm steel ball, 0.5 m/s, 15 deg (SYNTHETIC, "
+        "scripts/make_format_samples.py)",
+        "Date\t2026/11/22",
+        f"Time\t{stamp}",
+        "***End_of_Header***\t",
+        "\t",
+        row("Channels", [str(len(names))] + [""] * (len(names) - 1)),
+        row("Samples", [str(n)] * len(names)),
+        row("Date", ["2026/11/22"] * len(names)),
+        row("Time", [stamp] * len(names)),
+        row("Y_Unit_Label", ["Volts"] * len(names)),
+        row("X_Dimension", ["Time"] * len(names)),
+        row("X0", ["-2,0000000000000000E-5"] * len(names)),
+        row("Delta_X", ["1,000000E-6"] * len(names)),
+        "\t".join(["***End_of_Header***"] + [""] * (len(names) + 1)),
+        "\t".join(["X_Value", *names, "Comment"]),
+    ]
+    rows = []
+    for k in range(n):
+        cells = ["", *(_lvm_number(volts[c][k]) for c in names)]
+        if k == 0:
+            cells.append("pre-trigger 20 us")
+        rows.append("\t".join(cells))
+    atomic_write_text(path, _CRLF.join(head + rows) + _CRLF + _CRLF, newline="")
+
+
+def _mat_header(text: str) -> bytes:
+    """The 116-byte descriptive text MATLAB puts first (fixed, so the file is deterministic)."""
+    return text.encode("ascii").ljust(116, b" ")
+
+
+def mat_v5(path, impact, rng):
+    """sensor_v5.mat (see module notes)."""
+    import io
+
+    import scipy.io
+
+    dt, t0 = 0.5e-6, -30e-6
+    n = int(round((impact.t_c + 80e-6) / dt))
+    t = t0 + dt * np.arange(n)
+    fn, ft, fy = forces(t, impact)
+    noise = rng.normal(0.0, 2.0, size=(3, n))
+    buf = io.BytesIO()
+    scipy.io.savemat(
+        buf,
+        {
+            "t_us": (t * 1e6)[np.newaxis, :],  # a 1×n row vector
+            "Fz_kN": ((fn + noise[0]) / 1e3).astype(np.float32)[:, np.newaxis],
+            "Fx_kN": ((ft + noise[1]) / 1e3).astype(np.float32)[:, np.newaxis],
+            "Fy_kN": ((fy + noise[2]) / 1e3).astype(np.float32)[:, np.newaxis],
+            "operator": "A. Lab",
+        },
+        format="5",
+        do_compression=False,
+        oned_as="column",
+    )
+    raw = bytearray(buf.getvalue())
+    raw[:116] = _mat_header(
+        "MATLAB 5.0 MAT-file, written by scripts/make_format_samples.py (SYNTHETIC)"
+    )
+    atomic_write_bytes(path, bytes(raw))
+
+
+def mat_v73(path, impact, rng):
+    """sensor_v73.mat (see module notes)."""
+    import h5py
+
+    dt, t0 = 1e-6, -20e-6
+    n = int(round((impact.t_c + 60e-6) / dt))
+    t = t0 + dt * np.arange(n)
+    fn, ft, fy = forces(t, impact)
+    noise = rng.normal(0.0, 2.0, size=(3, n))
+    raw = np.column_stack(
+        [
+            t,
+            (ft + noise[0]) * SENSITIVITY["Fx"] * 1e-3,
+            (fy + noise[1]) * SENSITIVITY["Fy"] * 1e-3,
+            (fn + noise[2]) * SENSITIVITY["Fz"] * 1e-3,
+        ]
+    )  # MATLAB's n×4 array
+    with atomic_path(path) as tmp:
+        with h5py.File(tmp, "w", userblock_size=512, track_order=False) as f:
+            data = f.create_group("data")
+            data.attrs["MATLAB_class"] = np.bytes_(b"struct")
+            ds = data.create_dataset("raw", data=raw.T)  # stored transposed, as MATLAB does
+            ds.attrs["MATLAB_class"] = np.bytes_(b"double")
+            chars = np.array([ord(c) for c in "A. Lab"], dtype=np.uint16)[:, np.newaxis]
+            op = data.create_dataset("operator", data=chars)  # a 1×6 char row, transposed
+            op.attrs["MATLAB_class"] = np.bytes_(b"char")
+            op.attrs["MATLAB_int_decode"] = np.int32(2)
+        header = _mat_header(
+            "MATLAB 7.3 MAT-file, written by scripts/make_format_samples.py (SYNTHETIC), "
+            "HDF5 schema 1.00 ."
+        )
+        with open(tmp, "r+b") as fh:
+            fh.write(header + b"\x00" * 8 + b"\x00\x02IM")  # version 0x0200, endianness
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, default=Path("data_samples"))
@@ -179,6 +329,9 @@ def main(argv=None):
         },
     )
     tdms(args.out / "sensor.tdms", impact, rng)
+    lvm(args.out / "sensor_volts.lvm", impact, np.random.default_rng(SEED + 1))
+    mat_v5(args.out / "sensor_v5.mat", impact, np.random.default_rng(SEED + 2))
+    mat_v73(args.out / "sensor_v73.mat", impact, np.random.default_rng(SEED + 3))
     sidecars(args.out)
 
 
@@ -195,6 +348,17 @@ def sidecars(out: Path) -> None:
         "sensor": {},
         "wpd_datasets": digitised,
         "wpd_Fn": {"paths": {"Fn": "wpd_Fn.csv", "Ft": "wpd_Ft.csv"}, **digitised},
+        "sensor_volts": {},
+        "sensor_v5": {},
+        "sensor_v73": {},
+    }
+    mv_n = {c: [v, "mV/N"] for c, v in SENSITIVITY.items()}
+    rig = {  # the sidecar's own keys: the rig's sensitivity, a MATLAB array's columns
+        "sensor_volts": {"sensitivity": {"Fn": mv_n["Fz"], "Ft": mv_n["Fx"]}},
+        "sensor_v73": {
+            "sensitivity": {"Fn": mv_n["Fz"], "Ft": mv_n["Fx"], "Fy": mv_n["Fy"]},
+            "columns": {"data.raw": ["time [s]", "Fx [V]", "Fy [V]", "Fz [V]"]},
+        },
     }
     for stem, load in entries.items():
         side = {
@@ -204,6 +368,7 @@ def sidecars(out: Path) -> None:
             "generator": "python scripts/make_format_samples.py --out data_samples",
             "seed": SEED,
             "scene": scene,
+            **rig.get(stem, {}),
             "load": load,
         }
         atomic_write_text(out / f"{stem}.json", json.dumps(side, indent=1) + "\n")

@@ -274,7 +274,10 @@ def test_record_files_from_folder_glob_and_list():
 @pytest.mark.parametrize(
     ("paths", "message"),
     [
-        ("nowhere/*.csv", "the pattern 'nowhere/*.csv' matches no record file (*.csv, *.tdms)"),
+        (
+            "nowhere/*.csv",
+            "the pattern 'nowhere/*.csv' matches no record file (*.csv, *.tdms, *.lvm, *.mat)",
+        ),
         ("nowhere", "nowhere: no such file or folder; check the path"),
         ([], "no records given: name a folder, a glob or files"),
     ],

@@ -30,7 +30,7 @@ from .._json import json_ready
 from ..analysis import OUTCOME_UNITS, Analysis, analyse
 from ..errors import InputError, PipelineWarning
 from ..fit import fit_contact
-from ..io import scene_from_metadata
+from ..io import RECORD_SUFFIXES, scene_from_metadata
 from ..notebook_report import noted, render_record_report
 from ..report import load_sample, read_sidecar, sample_files, sidecar_path
 from ..scene import Scene
@@ -56,7 +56,8 @@ OUTCOMES = dict(OUTCOME_UNITS)
 FIT_PARAMETERS = {"E_eff": "Pa", "e": "1", "mu": "1", "kt_scale": "1"}
 
 _GLOB_CHARS = set("*?[")
-_DATA_SUFFIXES = (".csv", ".tdms")
+_DATA_SUFFIXES = RECORD_SUFFIXES
+_PATTERNS = ", ".join(f"*{s}" for s in RECORD_SUFFIXES)
 
 
 @dataclass(frozen=True)
@@ -117,7 +118,7 @@ class RecordResult:
 def record_files(paths) -> list[Path]:
     """The record files of a folder, a glob, a file, or a list of any of these.
 
-    A folder gives its data files (``*.csv``, ``*.tdms``), less
+    A folder gives its data files (``*.csv``, ``*.tdms``, ``*.lvm``, ``*.mat``), less
     the parts another sidecar combines into one record (:func:`pipeline.report.sample_files`);
     sidecars (``*.json``) are not records. Order: as given, each folder or glob sorted by
     name; duplicates dropped.
@@ -137,14 +138,14 @@ def record_files(paths) -> list[Path]:
         if p.is_dir():
             found = sample_files(p)
             if not found:
-                raise InputError("no record files (*.csv, *.tdms) in this folder", path=p)
+                raise InputError(f"no record files ({_PATTERNS}) in this folder", path=p)
             out += found
         elif _GLOB_CHARS & set(text):
             found = sorted(
                 Path(q) for q in _glob.glob(text) if Path(q).suffix.lower() in _DATA_SUFFIXES
             )
             if not found:
-                raise InputError(f"the pattern {text!r} matches no record file (*.csv, *.tdms)")
+                raise InputError(f"the pattern {text!r} matches no record file ({_PATTERNS})")
             out += found
         elif p.is_file():
             out.append(p)

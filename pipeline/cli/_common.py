@@ -53,6 +53,34 @@ def parse_axes(text: str) -> dict:
     return out
 
 
+def parse_sensitivity_option(text: str) -> dict:
+    """``--sensitivity``: ``Fn=0.225mV/N,Ft=4.4 N/V`` or a JSON object
+    ``{"Fn": [0.225, "mV/N"]}``; a decimal comma is read (``Fn=0,225 mV/N``)."""
+    import re
+
+    from ..io import parse_sensitivity
+
+    text = text.strip()
+    if text.startswith("{"):
+        try:
+            value = json.loads(text)
+        except ValueError as exc:
+            raise argparse.ArgumentTypeError(f"not a JSON object ({exc})") from None
+    else:
+        value = {}
+        for part in filter(None, (q.strip() for q in re.split(r"[,;](?=[^,;=]+=)", text))):
+            name, sep, spec = part.partition("=")
+            if not sep or not name.strip() or not spec.strip():
+                raise argparse.ArgumentTypeError(
+                    f"{part!r} is not CHANNEL=VALUE UNIT; write e.g. Fn=0.225mV/N,Ft=0.5mV/N"
+                )
+            value[name.strip()] = spec.strip()
+    try:
+        return parse_sensitivity(value)
+    except InputError as exc:
+        raise argparse.ArgumentTypeError(exc.reason) from None
+
+
 def add_record_options(p) -> None:
     """The options that say how to read a record, as :func:`pipeline.io.load` takes them."""
     g = p.add_argument_group(
@@ -73,6 +101,13 @@ def add_record_options(p) -> None:
         metavar="FILE",
         help="3×3 decoupling matrix of the sensor (CSV rows or JSON), applied to raw "
         "(Fx, Fy, Fz) before the axis map",
+    )
+    g.add_argument(
+        "--sensitivity",
+        type=parse_sensitivity_option,
+        metavar="MAP",
+        help="channels recorded in volts: record channel = sensitivity, in mV/N, V/N, N/V or "
+        'N/mV: Fn=0.225mV/N,Ft=0.5mV/N (or JSON {"Fn": [0.225, "mV/N"]})',
     )
 
 
@@ -97,6 +132,7 @@ def read_record(path, args):
         force_unit=args.force_unit,
         axes=args.axes,
         decouple=args.decouple,
+        sensitivity=args.sensitivity,
     )
 
 
