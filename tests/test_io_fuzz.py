@@ -1,12 +1,14 @@
 """Fuzzing every reader and the scene parser, and the netCDF round trip of every format.
 
 Properties: whatever bytes a file holds, ``pipeline.io.load`` and each reader
-(``read_sensor``, ``read_wpd``, ``read_tdms``), the scene parser (``Scene.from_file``), a
-sample's sidecar (``pipeline.report.load_sample``) and a decoupling-matrix file either
-return their result (a record that passes ``pipeline.record.validate``, a Scene) or raise
-``InputError`` naming the file — never another exception, never a bare
-pandas/numpy/npTDMS/json traceback — and never change a byte of the file.
-And a valid sensor CSV in any accepted dialect loads to the values written in it, in SI.
+(``read_sensor``, ``read_wpd``, ``read_tdms``, ``read_lvm``, ``read_mat``), the scene
+parser (``Scene.from_file``), a sample's sidecar (``pipeline.report.load_sample``) and a
+decoupling-matrix file either return their result (a record that passes
+``pipeline.record.validate``, a Scene) or raise ``InputError`` naming the file — never
+another exception, never a bare pandas/numpy/npTDMS/scipy/h5py/json traceback — and never
+change a byte of the file.
+And a valid sensor CSV or LabVIEW Measurement file in any accepted dialect loads to the
+values written in it, in SI (volts through their sensitivity).
 
 Example counts are multiples of the profile's unit (tests/conftest.py): 100 in
 ``make test``, 500 under the ``fuzz`` profile CI runs (over 10,000 examples in all).
@@ -28,7 +30,16 @@ from hypothesis import strategies as st
 
 from pipeline import Scene
 from pipeline.errors import InputError, PipelineWarning
-from pipeline.io import load, read_decoupling, read_sensor, read_tdms, read_wpd, validate
+from pipeline.io import (
+    load,
+    read_decoupling,
+    read_lvm,
+    read_mat,
+    read_sensor,
+    read_tdms,
+    read_wpd,
+    validate,
+)
 
 SAMPLES = Path(__file__).resolve().parents[1] / "data_samples"
 SAMPLE_FILES = {
@@ -36,12 +47,23 @@ SAMPLE_FILES = {
     "wpd_Fn.csv": {"time_unit": "us", "force_unit": "N"},
     "wpd_datasets.csv": {"time_unit": "us", "force_unit": "N"},
     "sensor.tdms": {},
+    "sensor_volts.lvm": {"sensitivity": {"Fn": (0.225, "mV/N"), "Ft": (0.5, "mV/N")}},
+    "sensor_v5.mat": {},
+    "sensor_v73.mat": {
+        "sensitivity": {"Fn": (0.225, "mV/N"), "Ft": (0.5, "mV/N"), "Fy": (0.5, "mV/N")},
+        "columns": {"data.raw": ["time [s]", "Fx [V]", "Fy [V]", "Fz [V]"]},
+    },
 }
 SMALL = {  # short valid files: mutations reach every line of them quickly
     "small.csv": b"# a: 1\r\ntime [ms];Fx [kN];Fy [kN];Fz [kN]\r\n0;0,1;0;1,5\r\n"
     b"1;0,2;0;2,5\r\n2;0,1;0;1,0\r\n",
     "Fn.csv": b"2, 20\n1, 10\n3, 5\n4, 1\n",
     "wpd_datasets.csv": b"Fn,,Ft,\nX,Y,X,Y\n1,2,1.5,3\n2,3,2.5,4\n3,1,,\n",
+    "small.lvm": b"LabVIEW Measurement\t\r\nSeparator\tTab\r\nDecimal_Separator\t,\r\n"
+    b"X_Columns\tNo\r\n***End_of_Header***\t\r\n\t\r\nChannels\t2\t\t\r\n"
+    b"Y_Unit_Label\tVolts\tN\t\r\nX0\t0,0E+0\t0,0E+0\t\r\nDelta_X\t1,0E-6\t1,0E-6\t\r\n"
+    b"***End_of_Header***\t\t\t\r\nX_Value\tFz\tFx\tComment\r\n\t0,1\t2\tc\r\n"
+    b"\t0,3\t1\r\n\t0,2\t0\r\n",
 }
 ORIGINALS = {name: (SAMPLES / name).read_bytes() for name in SAMPLE_FILES} | SMALL
 TOKENS = [
@@ -112,7 +134,7 @@ def _check(name: str, data: bytes, kwargs: dict, reader=load):
     validate(rec)
     t = rec["time"].values
     assert t.size >= 2 and np.all(np.diff(t) > 0) and np.all(np.isfinite(t))
-    assert rec.attrs["format"] in ("sensor_csv", "wpd", "wpd_datasets", "tdms")
+    assert rec.attrs["format"] in ("sensor_csv", "wpd", "wpd_datasets", "tdms", "lvm", "mat")
 
 
 # ---------------------------------------------------------------------------- mutations
@@ -170,6 +192,8 @@ def mutated(draw):
     kwargs = dict(SAMPLE_FILES.get(name, {"time_unit": "ms", "force_unit": "N"}))
     if name == "small.csv":
         kwargs = {}
+    if name == "small.lvm":
+        kwargs = {"sensitivity": {"Fn": (2.0, "N/mV")}}
     return name, data, kwargs
 
 
@@ -180,7 +204,7 @@ def test_mutated_files_give_record_or_input_error(case):
     _check(name, data, kwargs)
 
 
-READERS = {".csv": read_sensor, ".tdms": read_tdms}
+READERS = {".csv": read_sensor, ".tdms": read_tdms, ".lvm": read_lvm, ".mat": read_mat}
 
 
 @settings(max_examples=3 * UNIT, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -205,7 +229,7 @@ def test_each_reader_called_directly_gives_record_or_input_error(case):
     | st.text(
         alphabet=st.sampled_from(list("0123456789.,;\t\n\r -+eE#[]()xyXYFtnzms")), max_size=300
     ).map(lambda s: s.encode()),
-    name=st.sampled_from(["r.csv", "Fn.csv", "r.tdms", "r.txt"]),
+    name=st.sampled_from(["r.csv", "Fn.csv", "r.tdms", "r.txt", "r.lvm", "r.mat"]),
     units=st.booleans(),
 )
 def test_random_bytes_give_record_or_input_error(data, name, units):
@@ -222,6 +246,8 @@ def test_random_bytes_give_record_or_input_error(data, name, units):
         ("wpd_datasets.csv", {"time_unit": "us", "force_unit": "N"}),
         ({"Fn": "wpd_Fn.csv", "Ft": "wpd_Ft.csv"}, {"time_unit": "us", "force_unit": "N"}),
         ("sensor.tdms", {}),
+        *((name, SAMPLE_FILES[name]) for name in ("sensor_volts.lvm", "sensor_v5.mat")),
+        ("sensor_v73.mat", SAMPLE_FILES["sensor_v73.mat"]),
     ],
 )
 def test_netcdf_round_trip_loses_nothing(tmp_path, source, kwargs):
@@ -310,6 +336,80 @@ def test_valid_sensor_dialects_load_to_known_si_values(case):
     np.testing.assert_allclose(rec["time"].values, truth["time"], rtol=1e-15, atol=0)
     np.testing.assert_allclose(rec["Fn"].values, truth["Fn"], rtol=1e-15, atol=0)
     np.testing.assert_allclose(rec["Ft"].values, truth["Ft"], rtol=1e-15, atol=0)
+
+
+SEP_NAMES = {"\t": "Tab", ",": "Comma", ";": "Semicolon"}
+
+
+@st.composite
+def lvm_dialect(draw):
+    """A valid LabVIEW Measurement file in a random dialect, and the SI values it holds."""
+    sep = draw(st.sampled_from(["\t", ",", ";"]))
+    dec = "." if sep == "," else draw(st.sampled_from([".", ","]))
+    x_mode = draw(st.sampled_from(["No", "One", "Multi"]))
+    n = draw(st.integers(2, 10))
+    step = draw(st.sampled_from([1, 2, 5])) * 1e-6  # short decimals: the text is the truth
+    x0 = draw(st.integers(-20, 20)) * step
+    t = x0 + step * np.arange(n)
+    fz = np.array(draw(st.lists(st.integers(-9999, 99999), min_size=n, max_size=n))) / 8
+    fx = np.array(draw(st.lists(st.integers(-999, 999), min_size=n, max_size=n))) / 16
+    unit = draw(st.sampled_from(["Newtons", "N", "kN", "Volts", "mV"]))
+    scale = {"Newtons": 1.0, "N": 1.0, "kN": 1e3, "Volts": 2000.0, "mV": 2.0}[unit]
+
+    def num(v):
+        text = f"{v:.15E}" if draw(st.booleans()) and v != 0 else repr(float(v))
+        return text.replace(".", dec)
+
+    def row(tag, cells):
+        return sep.join([tag, *cells, ""])
+
+    width = ["", ""] if x_mode != "Multi" else ["", "", ""]
+    per = (lambda v: [v, v]) if x_mode != "Multi" else (lambda v: [v, "", v])
+    head = [
+        f"LabVIEW Measurement{sep}",
+        f"Separator{sep}{SEP_NAMES[sep]}",
+        *([f"Decimal_Separator{sep}{dec}"] if dec == "," or draw(st.booleans()) else []),
+        f"Multi_Headings{sep}{draw(st.sampled_from(['Yes', 'No']))}",
+        f"X_Columns{sep}{x_mode}",
+        f"Operator{sep}A. Lab",
+        f"***End_of_Header***{sep}",
+        sep,
+        row("Channels", ["2", *width[1:]]),
+        row("Samples", per(str(n))),
+        row("Y_Unit_Label", per(unit)),
+        row("X_Dimension", per("Time")),
+        row("X0", per(num(x0))),
+        row("Delta_X", per(num(step))),
+        sep.join(["***End_of_Header***", *width, ""]),
+        sep.join(["X_Value", "Fz", *(["X_Value"] if x_mode == "Multi" else []), "Fx", "Comment"]),
+    ]
+    rows = []
+    for k in range(n):
+        x = "" if x_mode == "No" else num(t[k])
+        cells = [x, num(fz[k])] + ([x] if x_mode == "Multi" else []) + [num(fx[k])]
+        if draw(st.integers(0, 4)) == 0:
+            cells.append(draw(st.sampled_from(["trigger", "c\\09d", "ok"])))
+        rows.append(sep.join(cells))
+    eol = draw(st.sampled_from(["\n", "\r\n"]))
+    text = eol.join(head + rows) + eol + draw(st.sampled_from(["", eol]))
+    sens = {"Fn": (0.5, "mV/N"), "Ft": (0.5, "mV/N")} if scale in (2000.0, 2.0) else None
+    truth = {"time": t, "Fn": fz * scale, "Ft": fx * scale}
+    return text.encode(draw(st.sampled_from(["utf-8", "utf-8-sig", "cp1252"]))), sens, truth
+
+
+@settings(max_examples=2 * UNIT, deadline=None)
+@given(lvm_dialect())
+def test_valid_lvm_dialects_load_to_known_si_values(case):
+    """Separators tab, comma, semicolon; decimal point or comma; X columns No (time from
+    X0 + k·Delta_X), One or Multi; units as LabVIEW labels them (Newtons, kN, Volts, mV
+    through a 0.5 mV/N sensitivity); comments; CRLF or LF; UTF-8, BOM or Windows-1252."""
+    data, sens, truth = case
+    path = _TMP / "dialect.lvm"
+    path.write_bytes(data)
+    rec = load(path, sensitivity=sens)
+    np.testing.assert_allclose(rec["time"].values, truth["time"], rtol=1e-12, atol=1e-18)
+    np.testing.assert_allclose(rec["Fn"].values, truth["Fn"], rtol=1e-12, atol=0)
+    np.testing.assert_allclose(rec["Ft"].values, truth["Ft"], rtol=1e-12, atol=0)
 
 
 # ------------------------------------------------------------------ scene files, sidecars

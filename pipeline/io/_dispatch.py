@@ -167,7 +167,7 @@ def load(
     >>> from pipeline.io import load
     >>> rec = load("data_samples/sensor_decimal_comma.csv", radius=0.0127)
     >>> rec = load("data_samples/wpd_datasets.csv", time_unit="us", force_unit="N")
-    >>> rec = load("data_samples/loadcell_drop.lvm", sensitivity={"Fn": (0.225, "mV/N"),
+    >>> rec = load("data_samples/sensor_volts.lvm", sensitivity={"Fn": (0.225, "mV/N"),
     ...            "Ft": (0.5, "mV/N")})
     """
     scene_attrs(scene_fields)  # fail early on a bad keyword, before reading anything

@@ -203,8 +203,8 @@ def _parse(text: str, p):
         if state == "columns":
             if tag != "X_Value":
                 raise InputError(
-                    f"the segment header ends at line {current.header_line} but the next line "
-                    "is not the column line ('X_Value' and the channel names)",
+                    "the line after the segment header (its ***End_of_Header***) is not the "
+                    "column line ('X_Value' and the channel names)",
                     path=p,
                     line=n,
                 )
