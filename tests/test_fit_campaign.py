@@ -10,6 +10,7 @@ contact).
 
 from __future__ import annotations
 
+import gc
 import json
 import warnings
 
@@ -20,14 +21,20 @@ from _rig import GR_RIG as GR
 from pipeline import Scene, fit_campaign
 from pipeline.contact import calibrate_hunt_crossley_family, cor_hunt_crossley_alpha
 from pipeline.errors import InputError, PipelineWarning
+from pipeline.fit import store
+from pipeline.fit.forward import RecordData
+from pipeline.fit.procedure import MisfitPart, misfit_of
 from pipeline.sensor_model import to_sensor
 from pipeline.simulate import impact
+from pipeline.window import ContactWindow
 
 A, B = 0.10, 0.20  # μ = a + b·v_t0 [b in s/m]
 ALPHA = calibrate_hunt_crossley_family(0.9) / 0.45  # e = 0.9 at v_n0 = 0.45 m/s
 
 
 def _campaign(damping):
+    """Four records and their joint fit; the fit reads its stored records in chunks of
+    three, so that a chunk boundary falls inside the campaign."""
     recs, scenes = [], []
     for i, (v, ang) in enumerate([(0.3, 20.0), (0.3, 45.0), (0.6, 20.0), (0.6, 45.0)]):
         s = Scene(**GR, speed=v, angle_deg=ang, e=0.9)
@@ -38,9 +45,11 @@ def _campaign(damping):
             ideal = impact(s, normal="hunt_crossley", samples=2001, alpha=ALPHA)
         recs.append(to_sensor(ideal, seed=300 + i))
         scenes.append(s.replace(mu=None, e=None))  # the fit is told neither
-    with warnings.catch_warnings():
+    with warnings.catch_warnings(), pytest.MonkeyPatch.context() as mp:
         warnings.simplefilter("ignore", PipelineWarning)
-        return fit_campaign(recs, scenes, mu_law="linear_vt0", damping="constant_e"), scenes
+        mp.setattr(store, "CHUNK", 3)
+        fit = fit_campaign(recs, scenes, mu_law="linear_vt0", damping="constant_e")
+    return fit, scenes, recs
 
 
 @pytest.fixture(scope="module")
@@ -56,7 +65,7 @@ def constant_alpha():
 def test_campaign_finds_the_linear_friction_law(constant_e):
     """μ = a + b·v_t0 recovered: a and b within 3 standard errors and 2 % of the truth; the
     nested constant-μ hypothesis is rejected by the likelihood ratio (p < 1e-6) and by AIC."""
-    fit, scenes = constant_e
+    fit, scenes, _ = constant_e
     v, se = fit.values, fit.stderr
     assert abs(v["mu_a"] - A) < 3 * se["mu_a"] and v["mu_a"] == pytest.approx(A, rel=0.02)
     assert abs(v["mu_b"] - B) < 3 * se["mu_b"] and v["mu_b"] == pytest.approx(B, rel=0.02)
@@ -71,7 +80,7 @@ def test_campaign_finds_the_linear_friction_law(constant_e):
 def test_campaign_picks_constant_e_when_e_is_constant(constant_e):
     """One e at both speeds: 'constant_e' has the lowest AIC and BIC, by more than 10 (the
     hypotheses have equally many parameters, so this is χ²)."""
-    fit, _ = constant_e
+    fit, _, _ = constant_e
     df = fit.compare()
     assert (df.iloc[0]["mu_law"], df.iloc[0]["damping"]) == ("linear_vt0", "constant_e")
     other = df[(df.mu_law == "linear_vt0") & (df.damping == "constant_alpha")].iloc[0]
@@ -83,7 +92,7 @@ def test_campaign_picks_constant_e_when_e_is_constant(constant_e):
 def test_campaign_picks_constant_alpha_when_the_material_constant_is(constant_alpha):
     """One α at both speeds (e = 0.93 at 0.3 m/s, 0.87 at 0.6 m/s here): 'constant_alpha'
     wins by more than 10 in AIC, and its α is within 2 % of the truth."""
-    fit, scenes = constant_alpha
+    fit, scenes, _ = constant_alpha
     best = fit.best
     assert (best.mu_law, best.damping) == ("linear_vt0", "constant_alpha")
     df = fit.compare()
@@ -96,7 +105,7 @@ def test_campaign_picks_constant_alpha_when_the_material_constant_is(constant_al
 
 
 def test_campaign_surfaces(constant_e):
-    fit, _ = constant_e
+    fit, _, _ = constant_e
     json.dumps(fit.summary(), allow_nan=False)
     ds = fit.to_dataset()
     assert ds.sizes["record"] == 4 and ds["E_eff"].attrs["units"] == "Pa"
@@ -125,8 +134,7 @@ def test_block_solver_is_the_dense_solver(constant_e):
     records) and by lmfit on the dense Jacobian over all records (``solver="dense"``) are
     one least-squares problem: the same optimum and covariance to well within a tenth of
     a standard error (both stop at χ² changes of 1e-6 of itself)."""
-    blocks, scenes = constant_e
-    recs = [d.record for d in blocks.datas]
+    blocks, scenes, recs = constant_e
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", PipelineWarning)
         dense = fit_campaign(
@@ -174,3 +182,52 @@ def test_block_covariance_is_the_inverse_of_the_dense_normal_matrix():
     C = _covariance(B, shared, own, np.arange(ps + po * R))
     assert np.isnan(C[6, 6]) and np.isnan(C[6, 0]) and np.isnan(C[2, 7])
     assert np.isfinite(C[2, 2]) and np.isfinite(C[0, 0])
+
+
+def test_the_joint_fit_reads_a_lazy_sequence_once_and_keeps_no_record(constant_e):
+    """Records given as a lazy sequence are each read once (a campaign of many records
+    never holds them all), the fit is the one of the same records in a list (to 1e-6 of a
+    standard error: the same arithmetic), and once it is made no prepared record and no
+    contact window stays in memory: the fit reads its records back from its store."""
+    from collections.abc import Sequence
+
+    blocks, scenes, recs = constant_e
+    reads = []
+
+    class Lazy(Sequence):
+        def __len__(self):
+            return len(recs)
+
+        def __getitem__(self, i):
+            if not 0 <= i < len(recs):
+                raise IndexError(i)
+            reads.append(i)
+            return recs[i]
+
+    gc.collect()
+    alive = sum(isinstance(o, (RecordData, ContactWindow)) for o in gc.get_objects())
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", PipelineWarning)
+        lazy = fit_campaign(Lazy(), scenes, mu_law="linear_vt0", hypotheses="one")
+    gc.collect()
+    assert sum(isinstance(o, (RecordData, ContactWindow)) for o in gc.get_objects()) <= alive
+    assert sorted(reads) == [0, 1, 2, 3]
+    for name in ("E_eff", "e", "mu_a", "mu_b", "kt_scale_0", "t0_2"):
+        assert abs(lazy.values[name] - blocks.values[name]) < 1e-6 * blocks.stderr[name], name
+    assert len(lazy.datas) == 4 and lazy.datas[2].n_data == blocks.datas[2].n_data
+
+
+def test_misfit_over_many_records_names_the_worst_channels():
+    """A campaign's misfit test names the four channels whose residual signs run worst and
+    counts the others (one line, not one per channel); χ²_ν and its z are those of all
+    records together."""
+    parts = [
+        MisfitPart(1000.0, (500, 500), (0, 0), (("Fn", -3.0 - i), ("Ft", 0.5))) for i in range(10)
+    ]
+    m = misfit_of(parts, 3, 0)
+    assert m.redchi == pytest.approx(10_000.0 / 9_997)
+    assert m.reasons[:4] == tuple(
+        f"{i}:Fn residual signs run in long stretches (z = {-3.0 - i:.3g})" for i in (9, 8, 7, 6)
+    )
+    assert m.reasons[4] == "and 6 more of the 20 channels' residual signs run in long stretches"
+    assert len(m.runs_z) == 20

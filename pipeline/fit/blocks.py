@@ -23,11 +23,17 @@ J_{l,i} + \lambda D_{l,i})^{-1}`, the reduced system for the shared step is
     \delta l_i = -M_i\,(g_{l,i} + H_{ls,i}\,\delta s)
 
 (H = JᵀJ and g = Jᵀr blocks; λ the Marquardt damping, D the diagonal of H, Marquardt
-1963). One iteration costs one evaluation of every record's residuals and Jacobian blocks
-(the records in chunks, through :func:`pipeline.fit.engine.local_jacobians`, so the
-memory stays that of a chunk) and small dense solves: time and memory linear in the
-records, where a dense Jacobian over all records' samples grows with their square (the
-records' own parameters are columns of it) and its factorisation with their cube.
+1963). An iteration evaluates every record at the trial step, with its Jacobian blocks
+when the last step was taken (most are, and then the blocks of the next step come in the
+same pass over the records as its χ²), its residuals only after a refused step; the
+records go in chunks, through :func:`pipeline.fit.engine.local_jacobians`, so the memory
+stays that of a chunk, and the solves are small and dense: time linear in the records,
+where a dense Jacobian over all records' samples grows with their square (the records' own
+parameters are columns of it) and its factorisation with their cube. Of each record the
+solver keeps only its blocks (a few dozen numbers), its χ² and its share of the misfit test
+(:class:`pipeline.fit.procedure.MisfitPart`), never its residuals; the records themselves
+may come a chunk at a time from a :class:`pipeline.fit.store.RecordStore`, so the memory
+does not grow with the records beyond those few numbers.
 
 The covariance is the inverse of the same block matrix at λ = 0, assembled from the blocks
 (the shared block is the inverse of the Schur complement; Golub & Van Loan 2013, §3.2.11),
@@ -46,12 +52,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from .engine import local_jacobians
+from .procedure import misfit_part
+from .store import CHUNK, chunks_of
 
-__all__ = ["BlockCovariance", "BlockResult", "solve_blocks"]
-
-#: Records evaluated together: enough to vectorise the tangential solve, few enough to keep
-#: the memory of one chunk's Jacobian blocks small.
-CHUNK = 64
+__all__ = ["BlockCovariance", "BlockResult", "solve_blocks", "CHUNK"]
 _TOL = 1e-6
 
 
@@ -63,7 +67,9 @@ class BlockResult:
     ----------
     theta : numpy.ndarray — every global parameter at the optimum
     chi2 : float
-    residuals : list of numpy.ndarray — each record's weighted residuals there
+    chi2_records : numpy.ndarray — each record's share of χ² there
+    misfit_parts : list of pipeline.fit.procedure.MisfitPart — each record's share of the
+        misfit test there
     cov : BlockCovariance — covariance of the varied parameters (θ order), unscaled
     nfev, njev : int — residual and Jacobian evaluations
     success : bool; message : str
@@ -71,7 +77,8 @@ class BlockResult:
 
     theta: np.ndarray
     chi2: float
-    residuals: list
+    chi2_records: np.ndarray
+    misfit_parts: list
     cov: BlockCovariance
     nfev: int
     njev: int
@@ -111,39 +118,56 @@ def _dlocal(design, theta, shared, own, scale):
     return [b[0] for b in base], D
 
 
-def _evaluate(model, datas, design, theta, shared, own, scale, jacobian):
-    """χ², the residuals per record, and (with ``jacobian``) the normal-equation blocks per
-    record: H_ss (p_s, p_s), H_sl (p_s, p_o), H_ll (p_o, p_o), g_s (p_s), g_l (p_o)."""
+@dataclass
+class _Evaluation:
+    """One evaluation of every record at θ: χ², each record's share, and (with the
+    Jacobian) the normal-equation blocks per record — H_ss (p_s, p_s), H_sl (p_s, p_o),
+    H_ll (p_o, p_o), g_s (p_s), g_l (p_o) — and each record's share of the misfit test."""
+
+    chi2: float
+    records: np.ndarray
+    blocks: dict | None = None
+    parts: list | None = None
+
+
+def _evaluate(model, datas, design, theta, shared, own, scale, jacobian) -> _Evaluation:
+    """Every record at θ, a chunk at a time (:class:`_Evaluation`)."""
     R = len(datas)
+    chi2 = np.empty(R)
     if not jacobian:
         Ps = design.local(theta[None, :])
-        res = []
-        for a in range(0, R, CHUNK):
-            r, _ = model.residuals(datas[a : a + CHUNK], Ps[a : a + CHUNK])
-            res += [x[0] for x in r]
-        return float(sum(float(x @ x) for x in res)), res, None
+        for a, chunk in chunks_of(datas, CHUNK):
+            r, _ = model.residuals(chunk, Ps[a : a + len(chunk)])
+            chi2[a : a + len(chunk)] = [float(x[0] @ x[0]) for x in r]
+        return _Evaluation(float(sum(chi2.tolist())), chi2)
     Ps, D = _dlocal(design, theta, shared, own, scale)
     active = [np.flatnonzero(np.any(D[i] != 0, axis=1)) for i in range(R)]
-    ps = shared.size
-    blocks = {"ss": [], "sl": [], "ll": [], "gs": [], "gl": []}
-    res = []
-    for a in range(0, R, CHUNK):
-        idx = range(a, min(a + CHUNK, R))
+    ps, po = shared.size, D.shape[2] - shared.size
+    blocks = {
+        "ss": np.empty((R, ps, ps)),
+        "sl": np.empty((R, ps, po)),
+        "ll": np.empty((R, po, po)),
+        "gs": np.empty((R, ps)),
+        "gl": np.empty((R, po)),
+    }
+    parts = [None] * R
+    for a, chunk in chunks_of(datas, CHUNK):
+        idx = range(a, a + len(chunk))
         r, Jl, _ = local_jacobians(
-            model, [datas[i] for i in idx], [Ps[i][None, :] for i in idx], [active[i] for i in idx]
+            model, chunk, [Ps[i][None, :] for i in idx], [active[i] for i in idx]
         )
-        for i, ri, Ji in zip(idx, r, Jl, strict=True):
+        for i, d, ri, Ji in zip(idx, chunk, r, Jl, strict=True):
             ri = ri[0]
             J = Ji[0][active[i]].T @ D[i][active[i]]  # (n_i, p_s + p_o)
             Js, Jo = J[:, :ps], J[:, ps:]
-            blocks["ss"].append(Js.T @ Js)
-            blocks["sl"].append(Js.T @ Jo)
-            blocks["ll"].append(Jo.T @ Jo)
-            blocks["gs"].append(Js.T @ ri)
-            blocks["gl"].append(Jo.T @ ri)
-            res.append(ri)
-    out = {k: np.array(v) for k, v in blocks.items()}
-    return float(sum(float(x @ x) for x in res)), res, out
+            blocks["ss"][i] = Js.T @ Js
+            blocks["sl"][i] = Js.T @ Jo
+            blocks["ll"][i] = Jo.T @ Jo
+            blocks["gs"][i] = Js.T @ ri
+            blocks["gl"][i] = Jo.T @ ri
+            parts[i] = misfit_part(ri, d)
+            chi2[i] = parts[i].chi2
+    return _Evaluation(float(sum(chi2.tolist())), chi2, blocks, parts)
 
 
 def _inverse(H, lam=0.0):
@@ -263,7 +287,8 @@ def solve_blocks(model, datas, design, theta0, varied, lower, upper, *, max_iter
     Parameters
     ----------
     model : ForwardModel
-    datas : list of RecordData
+    datas : list of RecordData, or a :class:`pipeline.fit.store.RecordStore` (read a chunk
+        at a time)
     design : Design with ``shared_index()`` and ``own_index()`` (the global indices of the
         shared parameters, and per record those of its own)
     theta0 : numpy.ndarray — every global parameter's start (fixed ones at their values)
@@ -280,31 +305,36 @@ def solve_blocks(model, datas, design, theta0, varied, lower, upper, *, max_iter
     shared, own = _blocks(design, theta, varied)
     scale = np.asarray(design.scale, dtype=float)
     lam = 1e-3
-    chi2, res, B = _evaluate(model, datas, design, theta, shared, own, scale, True)
+    ev = _evaluate(model, datas, design, theta, shared, own, scale, True)
     nfev = njev = 1
     message, success = "the maximum number of iterations was reached", False
     p_o = own[0].size if own else 0
+    ahead = True  # the last step was taken: evaluate the next trial with its blocks
     for _ in range(max_iter):
-        ds, dl = _step(B, lam)
+        ds, dl = _step(ev.blocks, lam)
         trial = theta.copy()
         trial[shared] += ds
         for i, o in enumerate(own):
             trial[o] += dl[i] if p_o else 0.0
         trial = np.clip(trial, lower, upper)
-        chi2_t, res_t, _ = _evaluate(model, datas, design, trial, shared, own, scale, False)
+        ev_t = _evaluate(model, datas, design, trial, shared, own, scale, ahead)
         nfev += 1
-        if np.isfinite(chi2_t) and chi2_t <= chi2:
+        njev += ahead
+        if np.isfinite(ev_t.chi2) and ev_t.chi2 <= ev.chi2:
             moved = np.max(np.abs(trial - theta)[varied] / np.maximum(np.abs(theta), scale)[varied])
-            drop = (chi2 - chi2_t) / max(chi2, 1e-300)
-            theta, chi2, res = trial, chi2_t, res_t
+            drop = (ev.chi2 - ev_t.chi2) / max(ev.chi2, 1e-300)
+            theta = trial
             lam = max(lam / 10.0, 1e-9)
-            chi2, res, B = _evaluate(model, datas, design, theta, shared, own, scale, True)
-            njev += 1
+            if not ahead:
+                ev_t = _evaluate(model, datas, design, theta, shared, own, scale, True)
+                njev += 1
+            ev, ahead = ev_t, True
             if lam <= 1e-3 and (drop < _TOL or moved < _TOL):  # MINPACK's ftol or xtol
                 message, success = "converged: χ² or the parameters no longer move", True
                 break
         else:
-            if abs(chi2_t - chi2) <= _TOL * chi2:  # at the minimum to within the tolerance
+            ahead = False  # until a step is taken, trials cost their residuals only
+            if abs(ev_t.chi2 - ev.chi2) <= _TOL * ev.chi2:  # at the minimum, within the tolerance
                 message, success = "converged: no step lowers χ² by more than the tolerance", True
                 break
             lam *= 10.0
@@ -312,5 +342,5 @@ def solve_blocks(model, datas, design, theta0, varied, lower, upper, *, max_iter
                 message, success = "converged: no step lowers χ²", True
                 break
     varied_index = np.flatnonzero(varied)
-    cov = _covariance(B, shared, own, varied_index)
-    return BlockResult(theta, chi2, res, cov, nfev, njev, success, message)
+    cov = _covariance(ev.blocks, shared, own, varied_index)
+    return BlockResult(theta, ev.chi2, ev.records, ev.parts, cov, nfev, njev, success, message)

@@ -56,8 +56,9 @@ from .blocks import solve_blocks
 from .contact import DEFAULT_VARY, _start, e_of_alpha, fit_model
 from .engine import Design
 from .forward import ForwardModel, prepare
-from .procedure import _bounds, _rec, base_name, misfit, run_fit
+from .procedure import _bounds, _rec, base_name, misfit_of, run_fit, t0_bounds
 from .result import FitResult
+from .store import RecordStore
 
 __all__ = ["CampaignFit", "fit_campaign", "MU_LAWS", "DAMPING"]
 
@@ -67,12 +68,13 @@ _SHAREABLE = ("E_eff", "kt_scale")
 
 
 class _Campaign(Design):
-    """Global → per-record parameters for a campaign hypothesis (module notes)."""
+    """Global → per-record parameters for a campaign hypothesis (module notes), from the
+    records' :class:`~pipeline.fit.store.RecordSummary` (no samples needed)."""
 
-    def __init__(self, datas, law, shared, mu_law, damping, tangential):
-        self.datas, self.law = datas, law
+    def __init__(self, summary, law, shared, mu_law, damping, tangential):
+        self.summary, self.law = summary, law
         self.mu_law, self.damping = mu_law, damping
-        R = len(datas)
+        R = len(summary.names)
         names, scale = [], []
 
         def add(name, sc):
@@ -104,11 +106,12 @@ class _Campaign(Design):
         for i in range(R):
             add(f"speed_{i}", 0.1)
         self.t0 = [len(names) + i for i in range(R)]
-        for i, d in enumerate(datas):
-            add(f"t0_{i}", d.window.duration)
+        for i in range(R):
+            add(f"t0_{i}", float(summary.duration[i]))
         self.names = tuple(names)
         self.scale = np.array(scale, dtype=float)
-        self.vt0 = np.array([float(d.scene.v_t0) for d in datas])
+        self.vt0 = summary.v_t0
+        self._where = {n: k for k, n in enumerate(self.names)}
         self._cols = None  # per-record column indices and constants, on first use
 
     @staticmethod
@@ -123,7 +126,7 @@ class _Campaign(Design):
         return out
 
     def _index(self, name, i):
-        return self.names.index(name if name in self.names else f"{name}_{i}")
+        return self._where.get(name, self._where.get(f"{name}_{i}"))
 
     def shared_index(self) -> list:
         """Global indices of the parameters every record depends on."""
@@ -131,7 +134,7 @@ class _Campaign(Design):
 
     def own_index(self) -> list:
         """Per record, the global indices of its own parameters (the same kinds for all)."""
-        own = [[] for _ in self.datas]
+        own = [[] for _ in self.summary.names]
         for k, n in enumerate(self.names):
             head, _, tail = n.rpartition("_")
             if tail.isdigit() and head:
@@ -143,17 +146,18 @@ class _Campaign(Design):
         Hunt–Crossley family computed once for all records and rows (one call of the law's
         closed form, not one per record)."""
         theta = np.atleast_2d(theta)
-        B, R = theta.shape[0], len(self.datas)
+        B, R = theta.shape[0], len(self.summary.names)
         if self._cols is None:
+            sm = self.summary
             self._cols = {
                 "E": np.array([self._index("E_eff", i) for i in range(R)]),
                 "kt": None
                 if self.kt is None
                 else np.array([self._index("kt_scale", i) for i in range(R)]),
-                "nominal": np.array([d.nominal() for d in self.datas]),
-                "R_eff": np.array([d.R_eff for d in self.datas]),
-                "m_eff": np.array([d.m_eff for d in self.datas]),
-                "cos_a": np.array([d.cos_a for d in self.datas]),
+                "nominal": sm.nominal,
+                "R_eff": sm.R_eff,
+                "m_eff": sm.m_eff,
+                "cos_a": sm.cos_a,
             }
         c = self._cols
         P = np.repeat(c["nominal"][:, None, :], B, axis=1)  # (R, B, L)
@@ -197,7 +201,9 @@ class CampaignFit(FitResult):
     shared : tuple of str — parameters shared by every record
     records : tuple of str — the records' names (``source`` attributes), in order
     model : pipeline.fit.forward.ForwardModel
-    datas : tuple of pipeline.fit.forward.RecordData
+    datas : sequence of pipeline.fit.forward.RecordData — the records as fitted, read back
+        on access from the fit's temporary file (:class:`pipeline.fit.store.RecordStore`:
+        each record's ``record`` keeps only its attrs)
     hypotheses : dict — every hypothesis fitted, ``(mu_law, damping)`` → CampaignFit
         (this one included)
     """
@@ -207,7 +213,7 @@ class CampaignFit(FitResult):
     shared: tuple = ()
     records: tuple = ()
     model: object = None
-    datas: tuple = ()
+    datas: object = ()
     problem: object = None
     hypotheses: dict = field(default_factory=dict)
 
@@ -216,15 +222,18 @@ class CampaignFit(FitResult):
         E_eff [Pa], e, mu, kt_scale, speed [m/s], t0 [s], v_t0 [m/s], angle_deg."""
         import pandas as pd
 
-        Ps = self.problem.design.local(self.theta[None, :])
+        design = self.problem.design
+        Ps = design.local(self.theta[None, :])
         rows = []
-        for name, d, P in zip(self.records, self.datas, Ps, strict=True):
+        for name, angle, vt0, P in zip(
+            self.records, design.summary.angle_deg, design.summary.v_t0, Ps, strict=True
+        ):
             rows.append(
                 {
                     "record": name,
-                    "angle_deg": float(d.scene.angle_deg),
+                    "angle_deg": float(angle),
                     "speed": float(P[0, 4]),
-                    "v_t0": float(d.scene.v_t0),
+                    "v_t0": float(vt0),
                     "E_eff": float(P[0, 0]),
                     "e": float(P[0, 1]),
                     "mu": float(P[0, 2]),
@@ -343,35 +352,42 @@ def _as_list(x, n, what):
 
 @dataclass(frozen=True)
 class _Joint:
-    """What a joint fit keeps of its problem: the design (per-record parameters)."""
+    """What a joint fit keeps of its problem: the design (per-record parameters) and the
+    records (a :class:`~pipeline.fit.store.RecordStore`)."""
 
     design: Design
-    datas: tuple
+    datas: object
 
 
-def _joint(model, datas, design, init, vary) -> dict:
+def _joint(model, store, design, init, vary) -> dict:
     """The joint fit by the block solver (:mod:`pipeline.fit.blocks`), as the fields of a
     :class:`CampaignFit` (those :func:`pipeline.fit.procedure.run_fit` gives a dense one)."""
     import lmfit
 
     names = design.names
+    sm = design.summary
+    vary = set(vary)
     varied = np.array([n in vary for n in names])
     lower = np.full(len(names), -np.inf)
     upper = np.full(len(names), np.inf)
     theta0 = np.empty(len(names))
     for i, n in enumerate(names):
-        lo, hi = _bounds(base_name(n), init[n], datas[_rec(n, len(datas))])
+        base = base_name(n)
+        if base == "t0":
+            r = _rec(n, len(sm.names))
+            lo, hi = t0_bounds(sm.t_first[r], sm.t_start[r], sm.duration[r])
+        else:
+            lo, hi = _bounds(base, init[n], None)
         if varied[i]:
             lower[i], upper[i] = lo, hi
         theta0[i] = float(np.clip(init[n], lower[i], upper[i]))
-    res = solve_blocks(model, datas, design, theta0, varied, lower, upper)
-    r = np.concatenate(res.residuals)
-    n = r.size
+    res = solve_blocks(model, store, design, theta0, varied, lower, upper)
+    n = int(sm.n_data.sum())
     k = int(varied.sum())
-    nuisance = sum(d.n_nuisance for d in datas)
+    nuisance = int(sm.n_nuisance.sum())
     redchi = res.chi2 / max(n - k - nuisance, 1)
     cov = res.cov * max(1.0, redchi)
-    check = misfit(r, datas, k)
+    check = misfit_of(res.misfit_parts, k, nuisance)
     notes = []
     if not check.ok or not res.success:
         reasons = list(check.reasons) + ([] if res.success else [res.message])
@@ -399,7 +415,7 @@ def _joint(model, datas, design, init, vary) -> dict:
         notes=tuple(notes),
         poor=bool(notes),
         misfit=check,
-        problem=_Joint(design, tuple(datas)),
+        problem=_Joint(design, store),
     )
 
 
@@ -412,16 +428,16 @@ def _single_values(fit) -> dict:
     return out
 
 
-def _starts(singles, datas, design, law):
+def _starts(singles, design, law):
     """Starting values of the global parameters from the single-record fits' values
     (:func:`_single_values`, or the caller's ``starts``: E_eff, e, mu, kt_scale, t0 per
     record; the standard errors weigh μ where given)."""
     init = {}
     vals = list(singles)
-    for i, d in enumerate(datas):
-        v = vals[i]
+    sm = design.summary
+    for i, v in enumerate(vals):
         init[f"t0_{i}"] = v["t0"]
-        init[f"speed_{i}"] = float(d.scene.speed)
+        init[f"speed_{i}"] = float(sm.speed[i])
         init[f"E_eff_{i}"] = v["E_eff"]
         init[f"kt_scale_{i}"] = min(max(v.get("kt_scale", 1.0), 0.05), 20.0)
     init["E_eff"] = float(np.median([v["E_eff"] for v in vals]))
@@ -431,9 +447,9 @@ def _starts(singles, datas, design, law):
     if law != "hertz":
         L = NORMAL_LAWS[law]
         a = []
-        for e, d, v in zip(es, datas, vals, strict=True):
-            K = 4.0 / 3.0 * v["E_eff"] * math.sqrt(d.R_eff)
-            unit = float(L.material_to_param(1.0, K, d.m_eff, float(d.scene.speed) * d.cos_a))
+        for i, (e, v) in enumerate(zip(es, vals, strict=True)):
+            K = 4.0 / 3.0 * v["E_eff"] * math.sqrt(sm.R_eff[i])
+            unit = float(L.material_to_param(1.0, K, sm.m_eff[i], sm.speed[i] * sm.cos_a[i]))
             a.append(float(L.calibrate(min(e, 0.999999))) / unit if unit else 0.0)
         init["alpha"] = float(np.median(a))
     mus = np.array([v.get("mu", math.nan) for v in vals])
@@ -530,8 +546,10 @@ def fit_campaign(
             "fit_campaign: the bootstrap needs solver='dense' (the block solver gives "
             "covariance intervals)"
         )
-    records = list(records)
-    if len(records) < 2:
+    if not hasattr(records, "__len__"):
+        records = list(records)
+    n_records = len(records)  # a lazy sequence is read one record at a time, once
+    if n_records < 2:
         raise InputError("fit_campaign needs at least two records (fit_contact fits one)")
     if mu_law not in MU_LAWS:
         raise InputError(f"mu_law {mu_law!r} is unknown; choose one of {MU_LAWS}")
@@ -545,33 +563,34 @@ def fit_campaign(
         raise InputError(f"fit_campaign: cannot share {bad}; shareable: {_SHAREABLE}")
     if normal == "hertz" and damping == "constant_alpha":
         raise InputError("the elastic 'hertz' law has no damping constant; use a damped law")
-    scenes = _as_list(scenes, len(records), "scenes")
+    scenes = _as_list(scenes, n_records, "scenes")
     if not all(isinstance(s, Scene) for s in scenes):
         raise InputError("fit_campaign: scenes must be pipeline.Scene objects")
-    sensors = _as_list(sensors, len(records), "sensors")
-    noises = _as_list(noises, len(records), "noise settings")
+    sensors = _as_list(sensors, n_records, "sensors")
+    noises = _as_list(noises, n_records, "noise settings")
     model = ForwardModel(normal, tangential, history, n_steps)
-    datas = [
-        prepare(
-            r,
-            s,
-            channels=model.channels,
-            sensor=se,
-            margin=margin,
-            oversample=oversample,
-            noise=no,
-            window_options=window_options,
-        )
-        for r, s, se, no in zip(records, scenes, sensors, noises, strict=True)
-    ]
-    if starts == "moments":
-        singles = [_start(d, model, float(d.scene.speed)) for d in datas]
-    elif starts == "fits":
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", PipelineWarning)
-            singles = [
-                _single_values(
-                    fit_model(
+    own_starts = starts in ("moments", "fits")
+    singles = [] if own_starts else _as_list(starts, n_records, "starts")
+
+    def prepared():
+        """Each record prepared, its start taken, then handed to the store (and dropped)."""
+        for i, (r, s, se, no) in enumerate(zip(records, scenes, sensors, noises, strict=True)):
+            d = prepare(
+                r,
+                s,
+                channels=model.channels,
+                sensor=se,
+                margin=margin,
+                oversample=oversample,
+                noise=no,
+                window_options=window_options,
+            )
+            if starts == "moments":
+                singles.append(_start(d, model, float(d.scene.speed)))
+            elif starts == "fits":
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore", PipelineWarning)
+                    single = fit_model(
                         r,
                         s,
                         model,
@@ -584,12 +603,11 @@ def fit_campaign(
                         window_options=window_options,
                         systematics={},
                     )
-                )
-                for r, s, se, no in zip(records, scenes, sensors, noises, strict=True)
-            ]
-    else:
-        singles = _as_list(starts, len(records), "starts")
-    names = tuple(str(r.attrs.get("source", f"record {i}")) for i, r in enumerate(records))
+                singles.append(_single_values(single))
+            yield d, str(r.attrs.get("source", f"record {i}"))
+
+    store = RecordStore(prepared())
+    names = store.summary.names
     todo = [(mu_law, damping)]
     if hyps == "all":
         todo += [(m, d) for m in MU_LAWS for d in DAMPING if (m, d) != (mu_law, damping)]
@@ -599,22 +617,23 @@ def fit_campaign(
             todo = [(m, d) for m, d in todo if m == "constant"]
     fits = {}
     for ml, dm in todo:
-        design = _Campaign(datas, normal, shared, ml, dm, tangential)
-        init = _starts(singles, datas, design, normal)
+        design = _Campaign(store.summary, normal, shared, ml, dm, tangential)
+        init = _starts(singles, design, normal)
         vary = [n for n in design.names if not n.startswith("speed_")]
         if normal == "hertz":
             vary = [n for n in vary if n not in ("e", "alpha")]
-        if solver == "dense":
-            kw = run_fit(model, datas, design, init, vary, [], n_boot=n_boot, seed=seed)
+        if solver == "dense":  # every record in memory: the dense path is for a few
+            kw = run_fit(model, list(store), design, init, vary, [], n_boot=n_boot, seed=seed)
+            kw["problem"] = _Joint(design, store)
         else:
-            kw = _joint(model, datas, design, init, vary)
+            kw = _joint(model, store, design, init, vary)
         kw.update(
             mu_law=ml,
             damping=dm,
             shared=shared,
             records=names,
             model=model,
-            datas=tuple(datas),
+            datas=store,
             cost_s=time.perf_counter() - t_begin,
         )
         fits[(ml, dm)] = CampaignFit(**kw)

@@ -441,10 +441,7 @@ def prepare(
                 notes.append(note)
         floor = max(spec.quantum / math.sqrt(12.0), 1e-9 * float(np.max(np.abs(yc))), 1e-300)
         sigma = max(sigma, floor)
-        basis = None
-        if baseline:
-            A = np.column_stack([np.ones(tc.size), (tc - tc.mean()) / max(np.ptp(tc), 1e-300)])
-            basis = np.linalg.qr(A)[0]
+        basis = baseline_basis(tc) if baseline else None
         model = _noise_model(record, win, name, t, f) if noise_model else WHITE
         chans.append(Channel(name, tc, yc, sigma, basis, int(max(n_noise, 0)), model))
     fine, sos, os_ = None, None, 1
@@ -455,9 +452,8 @@ def prepare(
         # a uniform record gets the filter's fine grid even without a stated bandwidth:
         # a fit may then find the bandwidth (pipeline.fit.contact, systematics)
         os_ = int(oversample)
-        step = float(np.mean(dt))
-        fine = t0[0] + np.arange((t0.size - 1) * os_ + 1) * (step / os_)
-        sos = spec.sos(step / os_) if spec.filtered else None
+        fine, h = fine_grid(t0, os_)
+        sos = spec.sos(h) if spec.filtered else None
     elif spec.filtered:
         notes.append("the record is not sampled uniformly on one clock: its filter is not modelled")
     return RecordData(
@@ -471,6 +467,20 @@ def prepare(
         sos=sos,
         notes=tuple(notes),
     )
+
+
+def baseline_basis(t) -> np.ndarray:
+    """Orthonormal basis (n, 2) of {1, t − t̄} at the instants ``t`` [s]: a channel's residual
+    baseline, fitted with the contact (module notes)."""
+    A = np.column_stack([np.ones(t.size), (t - t.mean()) / max(np.ptp(t), 1e-300)])
+    return np.linalg.qr(A)[0]
+
+
+def fine_grid(t, oversample: int) -> tuple:
+    """The filter's fine grid of uniformly sampled instants ``t`` [s], ``oversample`` points
+    a sample (sample k at ``fine[k * oversample]``), and its step [s]."""
+    h = float(np.mean(np.diff(t))) / oversample
+    return t[0] + np.arange((t.size - 1) * oversample + 1) * h, h
 
 
 def weighted_residuals(data: RecordData, pred, derivative=False):

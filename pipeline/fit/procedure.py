@@ -35,7 +35,16 @@ from .forward import UNITS
 from .pulse import E_MIN
 from .uncertainty import block_bootstrap, chi2_quantile, covariance_parts, profile
 
-__all__ = ["run_fit", "base_name", "misfit", "Misfit", "MISFIT_Z"]
+__all__ = [
+    "run_fit",
+    "base_name",
+    "misfit",
+    "misfit_part",
+    "misfit_of",
+    "Misfit",
+    "MisfitPart",
+    "MISFIT_Z",
+]
 
 #: lmder's ftol and xtol: χ² falls by less than 1e-6 of itself, ~10⁻³ in χ² units for a
 #: thousand samples, which moves a parameter by well under 10⁻² of its standard error
@@ -70,9 +79,15 @@ def _bounds(name, value, data):
     if name == "bandwidth":
         return (value / 20.0, value * 20.0)
     if name == "t0":
-        dur = data.window.duration
-        return (data.channels[0].t[0], data.window.t_start + 0.5 * dur)
+        w = data.window
+        return t0_bounds(data.channels[0].t[0], w.t_start, w.duration)
     raise KeyError(name)  # pragma: no cover
+
+
+def t0_bounds(t_first, t_start, duration) -> tuple:
+    """The onset's bounds [s]: from the first fitted sample ``t_first`` to the middle of the
+    contact window (``t_start``, ``duration`` [s])."""
+    return (t_first, t_start + 0.5 * duration)
 
 
 def run_fit(model, datas, design, init, vary, notes, *, n_boot=0, seed=0, priors=None) -> dict:
@@ -234,29 +249,79 @@ def misfit(r, datas, k_free) -> Misfit:
     not called poor for its noise estimate; the signs of each channel's residuals by the
     runs test (Wald & Wolfowitz 1940). Either beyond :data:`MISFIT_Z` is a misfit.
     """
-    n = r.size
-    nuisance = sum(d.n_nuisance for d in datas)
+    parts, start = [], 0
+    for d in datas:
+        parts.append(misfit_part(r[start : start + d.n_data], d))
+        start += d.n_data
+    return misfit_of(parts, k_free, sum(d.n_nuisance for d in datas))
+
+
+@dataclass(frozen=True)
+class MisfitPart:
+    """One record's share of the misfit test (:func:`misfit_part`), so that a fit over many
+    records need not keep their residuals.
+
+    Attributes
+    ----------
+    chi2 : float — the record's Σr²
+    sizes : tuple of int — samples of each channel
+    n_noise : tuple of int — samples each channel's σ was measured on (0: not measured)
+    runs : tuple of (str, float) — each channel's name and runs-test z
+    """
+
+    chi2: float
+    sizes: tuple
+    n_noise: tuple
+    runs: tuple
+
+
+def misfit_part(r, data) -> MisfitPart:
+    """The misfit test's share of one record with weighted residuals ``r`` (its channels in
+    order)."""
+    runs, start = [], 0
+    for c in data.channels:
+        runs.append((c.name, float(runs_test(r[start : start + c.t.size]))))
+        start += c.t.size
+    return MisfitPart(
+        float(r @ r),
+        tuple(c.t.size for c in data.channels),
+        tuple(c.n_noise for c in data.channels),
+        tuple(runs),
+    )
+
+
+#: Channels whose runs test failed named one by one in a misfit's reasons; beyond, a count.
+_RUNS_LISTED = 4
+
+
+def misfit_of(parts, k_free, nuisance) -> Misfit:
+    """The misfit test (:func:`misfit`) from each record's :class:`MisfitPart`, with
+    ``k_free`` free and ``nuisance`` baseline parameters."""
+    n = sum(sum(p.sizes) for p in parts)
     nu = max(n - k_free - nuisance, 1)
-    redchi = float(r @ r) / nu
+    redchi = sum(p.chi2 for p in parts) / nu
     var = 2.0 / nu
-    start = 0
     runs = {}
-    for i, d in enumerate(datas):
-        for c in d.channels:
-            seg = r[start : start + c.t.size]
-            start += c.t.size
-            share = c.t.size / n
-            if c.n_noise:
-                var += share * share * _MAD_VAR / c.n_noise
-            key = c.name if len(datas) == 1 else f"{i}:{c.name}"
-            runs[key] = float(runs_test(seg))
+    for i, p in enumerate(parts):
+        for size, n_noise, (name, z) in zip(p.sizes, p.n_noise, p.runs, strict=True):
+            share = size / n
+            if n_noise:
+                var += share * share * _MAD_VAR / n_noise
+            runs[name if len(parts) == 1 else f"{i}:{name}"] = z
     z = (redchi - 1.0) / math.sqrt(var)
     reasons = []
     if z > MISFIT_Z:
         reasons.append(f"χ²_ν = {redchi:.3g} ({z:.1f} standard deviations above 1)")
-    for key, rz in runs.items():
-        if np.isfinite(rz) and rz < -MISFIT_Z:
-            reasons.append(f"{key} residual signs run in long stretches (z = {rz:.3g})")
+    long = [(rz, key) for key, rz in runs.items() if np.isfinite(rz) and rz < -MISFIT_Z]
+    if len(long) > _RUNS_LISTED:  # the worst, then how many more
+        long = sorted(long)
+    for rz, key in long[:_RUNS_LISTED]:
+        reasons.append(f"{key} residual signs run in long stretches (z = {rz:.3g})")
+    if len(long) > _RUNS_LISTED:
+        reasons.append(
+            f"and {len(long) - _RUNS_LISTED} more of the {len(runs)} channels' residual "
+            "signs run in long stretches"
+        )
     return Misfit(redchi, float(z), runs, tuple(reasons))
 
 
