@@ -10,19 +10,15 @@ fetched, and the pages load nothing from elsewhere when viewed: no web fonts, an
 docstrings' equations are written as MathML at build time (``docs/_ext/mathml.py``), which
 the browser draws itself, instead of MathJax fetched from a CDN.
 
-The API reference is generated here, not written by hand (:func:`write_reference`): every
+The API reference is generated, not written by hand (``docs/_ext/api_reference.py``): every
 public module's ``__all__`` is listed under the stage it belongs to, each object on the
-page of the shallowest public module that exports it (``pipeline.io.load``, not the private
-module that defines it), so a name added to an ``__all__`` gets its page in the next build,
-and a docstring that does not parse fails it.
+page of the module a reader imports it from, so a name added to an ``__all__`` gets its
+page in the next build, and a docstring that does not parse fails it.
 """
 
 from __future__ import annotations
 
-import importlib
-import inspect
 import os
-import pkgutil
 import re
 import sys
 import warnings
@@ -47,6 +43,7 @@ extensions = [
     "sphinx.ext.autosummary",
     "numpydoc",
     "sphinx_gallery.gen_gallery",
+    "api_reference",  # docs/_ext: the reference pages from the modules' __all__
     "mathml",  # docs/_ext: equations as MathML, no MathJax
     "plain_bars",  # docs/_ext: |x| in a docstring is a magnitude
 ]
@@ -85,6 +82,7 @@ sphinx_gallery_conf = {
     "show_memory": False,
     "matplotlib_animations": False,
     "min_reported_time": 5,
+    "write_computation_times": False,  # its page loads DataTables from a CDN
 }
 
 
@@ -111,157 +109,6 @@ html_sidebars = {"index": [], "getting_started": []}
 warnings.filterwarnings("ignore", message="Matplotlib is currently using agg")
 
 
-# ---------------------------------------------------------------------------- API reference
-#: The stages in the order data flows (README "Layout"); a public module not named here is
-#: listed after them, so a new module is documented without editing this file.
-STAGES = [
-    ("Scenes and records", ["pipeline.scene", "pipeline.record", "pipeline.io"]),
-    ("Checks of a record", ["pipeline.window", "pipeline.plausibility", "pipeline.errors"]),
-    ("From forces to percussions", ["pipeline.smooth", "pipeline.percussion"]),
-    ("Models", ["pipeline.rigid", "pipeline.contact", "pipeline.advice"]),
-    ("Records with known truth", ["pipeline.simulate", "pipeline.sensor_model"]),
-    ("Fitting contact parameters", ["pipeline.fit"]),
-    ("One record, many records", ["pipeline.score", "pipeline.analysis", "pipeline.campaigns"]),
-    ("Outputs", ["pipeline.report", "pipeline.figures", "pipeline.export",
-                 "pipeline.notebook_report"]),
-]
-#: Modules with no public names of their own (the command line is documented in cli.md).
-SKIP = ("pipeline.cli", "pipeline.templates")
-
-
-def _public_modules() -> list[str]:
-    found = [
-        m.name
-        for m in pkgutil.walk_packages(pipeline.__path__, "pipeline.")
-        if not any(p.startswith("_") for p in m.name.split("."))
-        and not m.name.startswith(SKIP)
-    ]
-    # A submodule shadowed by a name of its package (pipeline.figures.style is a function)
-    # cannot have a page of its own: its names are documented on the package's page.
-    found = [m for m in found if _is_reachable(m)]
-    ordered = []
-    for _, heads in STAGES:
-        for head in heads:
-            ordered += [head] + sorted(m for m in found if m.startswith(head + "."))
-    return ordered + sorted(set(found) - set(ordered))
-
-
-def _is_reachable(name: str) -> bool:
-    parent, _, last = name.rpartition(".")
-    return getattr(importlib.import_module(parent), last, None) is importlib.import_module(name)
-
-
-def _attribute_docs() -> dict[tuple[str, str], str]:
-    """The ``#:`` comments and docstrings of module-level constants, by (module, name)."""
-    from sphinx.pycode import ModuleAnalyzer
-
-    docs = {}
-    for m in pkgutil.walk_packages(pipeline.__path__, "pipeline."):
-        if m.name.startswith(SKIP):
-            continue
-        try:
-            found = ModuleAnalyzer.for_module(m.name).find_attr_docs()
-        except Exception:  # noqa: BLE001 - a module without source: no docs to take
-            continue
-        for (scope, name), lines in found.items():
-            if not scope:
-                docs[(m.name, name)] = "\n".join(lines).strip()
-    return docs
-
-
-def _kind(obj) -> str:
-    if inspect.isclass(obj):
-        return "exceptions" if issubclass(obj, BaseException) else "classes"
-    if callable(obj):
-        return "functions"
-    return "data"
-
-
-def _short(obj) -> str | None:
-    text = repr(obj)
-    return text if len(text) <= 60 and "\n" not in text else None
-
-
-def _first_line(module) -> str:
-    doc = inspect.getdoc(module) or ""
-    return doc.split("\n\n")[0].replace("\n", " ").strip()
-
-
-def write_reference(out: Path) -> None:
-    """Write ``reference/<module>.rst`` (one page per public module, its names in
-    autosummary tables) and ``reference/_modules.rst`` (the stage tables, included by
-    api.rst)."""
-    attr_docs = _attribute_docs()
-    modules = _public_modules()
-    done: set[tuple[str, int]] = set()
-    out.mkdir(parents=True, exist_ok=True)
-    pages = {}
-    for name in modules:
-        mod = importlib.import_module(name)
-        groups: dict[str, list[str]] = {"classes": [], "functions": [], "exceptions": [],
-                                        "data": []}
-        for attr in getattr(mod, "__all__", []):
-            if attr.startswith("__"):
-                continue
-            obj = getattr(mod, attr)
-            key = (attr, id(obj))
-            if key in done:  # documented on a shallower module's page
-                continue
-            done.add(key)
-            groups[_kind(obj)].append(attr)
-        lines = [name, "=" * len(name), "", f".. automodule:: {name}", "   :no-members:", "",
-                 f".. currentmodule:: {name}", ""]
-        titles = {"classes": "Classes", "functions": "Functions",
-                  "exceptions": "Exceptions and warnings"}
-        for group, title in titles.items():
-            if groups[group]:
-                lines += [title, "-" * len(title), "", ".. autosummary::",
-                          "   :toctree: generated", "   :nosignatures:", ""]
-                lines += [f"   {a}" for a in groups[group]] + [""]
-        if groups["data"]:
-            lines += ["Constants", "---------", ""]
-            for attr in groups["data"]:
-                obj = getattr(mod, attr)
-                doc = attr_docs.get((name, attr)) or next(
-                    (d for (m, a), d in attr_docs.items()
-                     if a == attr and getattr(sys.modules.get(m), attr, None) is obj), "")
-                lines += [f".. py:data:: {attr}"]
-                if (value := _short(obj)) is not None:
-                    lines += [f"   :value: {value}"]
-                lines += [""] + [f"   {d}" for d in doc.splitlines()] + [""]
-        pages[name] = "\n".join(lines)
-    for name, text in pages.items():
-        _write_if_changed(out / f"{name}.rst", text)
-    for stale in set(out.glob("pipeline*.rst")) - {out / f"{name}.rst" for name in pages}:
-        stale.unlink()
-
-    index = []
-    placed = set()
-    for title, heads in STAGES + [("Other modules", [])]:
-        mods = [m for m in modules if m not in placed and (
-            any(m == h or m.startswith(h + ".") for h in heads) or title == "Other modules")]
-        if not mods:
-            continue
-        placed.update(mods)
-        index += [title, "-" * len(title), "", ".. list-table::", "   :widths: 30 70", ""]
-        for m in mods:
-            index += [f"   * - :mod:`{m}`", f"     - {_first_line(sys.modules[m])}"]
-        index += ["", ".. toctree::", "   :hidden:", ""] + [f"   reference/{m}" for m in mods]
-        index += [""]
-    _write_if_changed(out / "_modules.rst", "\n".join(index))
-
-
-def _write_if_changed(path: Path, text: str) -> None:
-    # Sphinx rebuilds a page whose source changed: leave unchanged pages untouched.
-    if not path.exists() or path.read_text(encoding="utf-8") != text:
-        path.write_text(text, encoding="utf-8")
-
-
-def _reference(app, config) -> None:
-    # Before Sphinx looks for source files, so the pages are found on a fresh clone.
-    write_reference(HERE / "reference")
-
-
 # ------------------------------------------------------------------------------- user guide
 def _user_guide_contents(app, docname, source) -> None:
     """The user guide's contents are the pages its table (in index.md) links to, in that
@@ -274,6 +121,13 @@ def _user_guide_contents(app, docname, source) -> None:
     source[0] += "\n```{toctree}\n:hidden:\n\n" + "\n".join(pages) + "\n```\n"
 
 
+def _drop_theme_template(app, exception) -> None:
+    # pydata-sphinx-theme ships a Jinja template among its static files; copied into the
+    # site it is a page of unrendered {{ ... }} links. Nothing links to it.
+    if exception is None:
+        (Path(app.outdir) / "_static" / "webpack-macros.html").unlink(missing_ok=True)
+
+
 def setup(app):
-    app.connect("config-inited", _reference)
+    app.connect("build-finished", _drop_theme_template)
     app.connect("source-read", _user_guide_contents)

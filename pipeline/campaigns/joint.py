@@ -5,7 +5,7 @@ constant) and both damping hypotheses (e constant; Hunt–Crossley α constant, 
 speed), compared by AIC (Garland & Rogers 2009, doi:10.1115/1.3086432; Hunt & Crossley
 1975, doi:10.1115/1.3423596). :func:`with_joint_fit` stores the best hypothesis' values and
 standard errors as ``joint_<name>`` scalars and every hypothesis' row of
-:meth:`CampaignFit.compare` in ``attrs["joint_fit_json"]``. Where the fitter is not
+:meth:`~pipeline.fit.CampaignFit.compare` in ``attrs["joint_fit_json"]``. Where the fitter is not
 installed, or fewer than two records were analysed, the Dataset is returned unchanged.
 """
 

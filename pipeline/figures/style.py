@@ -64,7 +64,7 @@ def style():
 
 
 def new_figure(nrows=1, ncols=1, *, width=SINGLE, height=None, **subplots_kw):
-    """A constrained-layout :class:`Figure` and its axes, without pyplot.
+    """A constrained-layout :class:`~matplotlib.figure.Figure` and its axes, without pyplot.
 
     Parameters
     ----------

@@ -220,8 +220,9 @@ class AveragedFit:
         return out
 
     def ci(self, level: float = 0.95, kind: str = "total") -> dict:
-        """Intervals {name: (lo, hi)}: the chosen fit's (:meth:`FitResult.ci`), moved to the
-        averaged value and widened by the class's spread in place of its own model term."""
+        """Intervals {name: (lo, hi)}: the chosen fit's
+        (:meth:`~pipeline.fit.result.FitResult.ci`), moved to the averaged value and widened
+        by the class's spread in place of its own model term."""
         base = self.fit.ci(level, kind="stat")
         z = float(special.ndtri(0.5 + level / 2.0))
         out = {}

@@ -33,7 +33,7 @@ carries the incidence angle, μ, spin and surface speed, is its axis.
 ~1e-6 in e_t), refining adaptively: every interval is halved until linear interpolation in
 log ψ reproduces a fresh integration at its midpoint to :data:`TOLERANCE`. The largest
 midpoint error of the final grid is the table's stated bound (``error_bound``, in Γ;
-|Δe_t| ≤ error_bound/λ for a ball without spin; tested against :func:`impact` in
+|Δe_t| ≤ error_bound/λ for a ball without spin; tested against :func:`~pipeline.simulate.impact` in
 ``tests/test_simulate.py``). Scenes outside the table (ψ out of range, a damping parameter
 that varies from scene to scene — a material constant ``alpha`` at several speeds) are
 integrated instead.
