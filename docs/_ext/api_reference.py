@@ -323,8 +323,13 @@ def setup(app):
     import pipeline
 
     here = Path(app.confdir)
-    app.connect("config-inited", lambda app, config: write_reference(pipeline,
-                                                                      here / "reference"))
+    def write(app, config):
+        write_reference(pipeline, here / "reference")
+        # autosummary reads these pages for its stubs (not the pages Sphinx found last
+        # time, which would miss a module added since)
+        config.autosummary_generate = [f"reference/{m}.rst" for m in public_modules(pipeline)]
+
+    app.connect("config-inited", write)
     app.connect("missing-reference", resolve_alias)
     app.add_transform(LinkNames)
     return {"parallel_read_safe": True, "parallel_write_safe": True}

@@ -176,7 +176,7 @@ class RecordStore(Sequence):
 
     A read-only sequence of :class:`~pipeline.fit.forward.RecordData`: ``store[i]`` reads
     record i's chunk and rebuilds the record; :meth:`chunks` gives them a chunk at a time;
-    :attr:`summary` holds what a design needs without the samples.
+    ``summary`` holds what a design needs without the samples.
 
     Parameters
     ----------

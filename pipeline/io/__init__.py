@@ -2,17 +2,17 @@
 
 :func:`load` sniffs a file's format and hands it to the reader for it:
 
-=================  =============================================  ======================
-``format``         file                                           reader
-=================  =============================================  ======================
-``sensor_csv``     lab sensor CSV (``# key: value`` lines,         :func:`read_sensor`
+=================  ===============================================  ======================
+``format``         file                                             reader
+=================  ===============================================  ======================
+``sensor_csv``     lab sensor CSV (``# key: value`` lines,          :func:`read_sensor`
                    header with units)
-``wpd``            WebPlotDigitizer single-dataset export          :func:`read_wpd`
-``wpd_datasets``   WebPlotDigitizer "export all" file              :func:`read_wpd`
-``tdms``           NI TDMS (npTDMS)                                :func:`read_tdms`
-``lvm``            LabVIEW Measurement file (``.lvm``)             :func:`read_lvm`
-``mat``            MATLAB ``.mat``, v4–v7 (scipy) and v7.3 (h5py)  :func:`read_mat`
-=================  =============================================  ======================
+``wpd``            WebPlotDigitizer single-dataset export           :func:`read_wpd`
+``wpd_datasets``   WebPlotDigitizer "export all" file               :func:`read_wpd`
+``tdms``           NI TDMS (npTDMS)                                 :func:`read_tdms`
+``lvm``            LabVIEW Measurement file (``.lvm``)              :func:`read_lvm`
+``mat``            MATLAB ``.mat``, v4–v7 (scipy) and v7.3 (h5py)   :func:`read_mat`
+=================  ===============================================  ======================
 
 A channel recorded in volts becomes newtons through its stated sensitivity
 (``sensitivity={"Fn": (0.225, "mV/N")}``, :mod:`pipeline.io.sensitivity`) in every format
