@@ -42,6 +42,7 @@ extensions = [
     "sphinx.ext.autodoc",
     "sphinx.ext.autosummary",
     "numpydoc",
+    "numpydoc_dash",  # docs/_ext: "name : type — meaning [unit]" entries split for numpydoc
     "sphinx_gallery.gen_gallery",
     "api_reference",  # docs/_ext: the reference pages from the modules' __all__
     "mathml",  # docs/_ext: equations as MathML, no MathJax
