@@ -32,6 +32,19 @@ tdms = load("../data_samples/sensor.tdms")
 print(tdms.attrs["format"], tdms.sizes["time"], "samples")
 
 # %%
+# A LabVIEW Measurement file recorded in volts: each channel becomes newtons through its
+# stated sensitivity (``sensitivity={"Fn": (0.225, "mV/N"), ...}``), here read from the
+# record's sidecar by :func:`pipeline.report.load_sample`, as ``pipeline analyse`` does.
+# MATLAB files (``.mat``, v4 to v7.3) are read the same way.
+
+from pipeline.report import load_sample
+
+lvm = load_sample("../data_samples/sensor_volts.lvm")
+mat = load_sample("../data_samples/sensor_v73.mat")
+print(lvm.attrs["format"], lvm.attrs["sensitivity"], f"peak Fn {float(lvm['Fn'].max()):.0f} N")
+print(mat.attrs["format"], f"peak Fn {float(mat['Fn'].max()):.0f} N")
+
+# %%
 # Bad input raises :class:`~pipeline.errors.InputError` naming the file, the line and the
 # column, and what to do:
 
@@ -43,7 +56,7 @@ except InputError as exc:
     print(exc)
 
 # %%
-# The three records of the same impact, drawn together:
+# The records of the same impact, drawn together:
 
 from pipeline.figures import new_figure, style
 
@@ -51,6 +64,7 @@ with style():
     fig, ax = new_figure(width=6.0, height=3.0)
     ax.plot(rec["time"] * 1e6, rec["Fn"], lw=1, label="sensor CSV")
     ax.plot(tdms["time"] * 1e6, tdms["Fn"], "--", lw=1, label="TDMS")
+    ax.plot(lvm["time"] * 1e6, lvm["Fn"], ":", lw=1, label="LabVIEW, volts")
     measured = dig["Fn_measured"].values
     ax.plot(dig["time"][measured] * 1e6, dig["Fn"][measured], "k.", ms=3, label="digitised")
     ax.set_xlabel("time [µs]")
