@@ -2,16 +2,20 @@
 
 Every failure caused by bad input raises :class:`InputError`, a :class:`ValueError`
 whose message names the file (where there is one), the line and column where known,
-and what the user can do about it.
+and what the user can do about it. A fault of the machine while an output is written (a
+full disk, a folder turned read-only or gone) raises :class:`OutputError`, an
+:class:`OSError` whose one-line message names the output and what its place still holds.
 """
 
 from __future__ import annotations
 
+import errno as _errno
 import os
 import sys
 
 __all__ = [
     "InputError",
+    "OutputError",
     "PipelineWarning",
     "PoorFitWarning",
     "PlaneImpactWarning",
@@ -50,6 +54,62 @@ class InputError(ValueError):
         self.column = column
         self.reason = message
         super().__init__(f"{', '.join(where)}: {message}" if where else message)
+
+
+class OutputError(OSError):
+    """An output could not be written: the disk is full, its folder turned read-only, lost
+    its permission or vanished, or the device failed.
+
+    Outputs are written atomically (:mod:`pipeline._atomic`), so the output's place holds
+    the previous output or the new one, whole; the message is one line that says so:
+    ``the disk is full: cannot write build/c/campaign.nc (No space left on device);
+    build/c holds the previous run, untouched``.
+
+    Parameters
+    ----------
+    errno : int — the system's error number (``errno.ENOSPC``, ...)
+    strerror : str — the system's words for it
+    filename : str or os.PathLike — the output as the caller named it (never a temporary)
+    kept : str — what the output's place still holds
+    action : str — what could not be done, before the path [``"cannot write"``]
+
+    Attributes
+    ----------
+    fault : str — ``"full"`` (no space or quota left), ``"device"`` (an input/output
+        error: the disk or the network file system failed) or ``"unwritable"`` (read-only,
+        no permission, the folder vanished, anything else)
+    """
+
+    def __init__(self, errno, strerror, filename, kept="", action="cannot write"):
+        super().__init__(errno, strerror, None if filename is None else os.fspath(filename))
+        self.kept = kept
+        self.action = action
+
+    @property
+    def fault(self) -> str:
+        if self.errno in _FULL:
+            return "full"
+        return "device" if self.errno == _errno.EIO else "unwritable"
+
+    def __str__(self) -> str:
+        what = _FAULT_WORDS.get(self.errno, "the output cannot be written")
+        text = f"{what}: {self.action} {self.filename} ({self.strerror})"
+        return f"{text}; {self.kept}" if self.kept else text
+
+
+_FULL = {_errno.ENOSPC, _errno.EDQUOT, _errno.EFBIG}
+_FAULT_WORDS = {
+    _errno.ENOSPC: "the disk is full",
+    _errno.EDQUOT: "the disk quota is used up",
+    _errno.EFBIG: "the file is too large for its file system",
+    _errno.EROFS: "the file system is read-only",
+    _errno.EACCES: "no permission to write there",
+    _errno.EPERM: "no permission to write there",
+    _errno.ENOENT: "the output folder vanished",
+    _errno.ENOTDIR: "the output folder vanished",
+    _errno.ESTALE: "the output folder vanished",
+    _errno.EIO: "the disk failed (input/output error)",
+}
 
 
 class PipelineWarning(UserWarning):
