@@ -60,7 +60,7 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from . import figures
-from ._atomic import atomic_write_text
+from ._atomic import atomic_files, atomic_write_text, make_dirs
 from ._json import json_ready
 from .analysis import analyse
 from .errors import InputError, PipelineWarning
@@ -165,12 +165,13 @@ def _notebook(template, parameters: dict):
 
 
 def _write(nb, out: Path, html: bool) -> Path | None:
-    """Write the notebook and (``html``) its HTML beside it, atomically; the HTML's path."""
-    out.parent.mkdir(parents=True, exist_ok=True)
-    atomic_write_text(out, _need("nbformat").writes(nb))
-    if not html:
-        return None
-    return atomic_write_text(out.with_suffix(".html"), to_html(nb))
+    """Write the notebook and (``html``) its HTML beside it, atomically and together
+    (:func:`pipeline._atomic.atomic_files`); the HTML's path."""
+    with atomic_files(out.parent):
+        atomic_write_text(out, _need("nbformat").writes(nb))
+        if not html:
+            return None
+        return atomic_write_text(out.with_suffix(".html"), to_html(nb))
 
 
 def execute(
@@ -204,7 +205,7 @@ def execute(
     nbclient = _need("nbclient")
     out = Path(out)
     nb = _notebook(template, parameters)
-    out.parent.mkdir(parents=True, exist_ok=True)
+    make_dirs(out.parent)
     limits = {} if timeout is not None else {"startup_timeout": 3600}
     client = nbclient.NotebookClient(
         nb,
@@ -568,8 +569,7 @@ def campaign_report(dataset, out_dir, *, html: bool = True) -> NotebookReport:
     dataset = Path(dataset).resolve()
     if not dataset.is_file():
         raise InputError("no such campaign file; run pipeline campaign first", path=dataset)
-    out_dir = Path(out_dir)
-    out_dir.mkdir(parents=True, exist_ok=True)
+    out_dir = make_dirs(out_dir)
     # relative to the notebook (which runs in its own folder), so the pair can move together
     rel = os.path.relpath(dataset, out_dir.resolve())
     return execute(TEMPLATES["campaign"], {"dataset": rel}, out_dir / "campaign.ipynb", html=html)

@@ -15,7 +15,7 @@ import numpy as np
 import xarray as xr
 
 from .. import __version__, figures
-from .._atomic import atomic_path, atomic_write_text
+from .._atomic import atomic_files, atomic_write_bytes, atomic_write_text
 from .._json import json_ready
 from ..contact import alpha_hunt_crossley, cor_hunt_crossley_alpha
 from ..errors import InputError
@@ -250,17 +250,20 @@ def _aic(rss: float, n: int, k: int) -> float:
 # ------------------------------------------------------------------ writing
 def write_campaign(ds: xr.Dataset, out) -> dict:
     """Write a campaign's Dataset (``campaign.nc``), its table (``campaign.csv``) and
-    figures into the folder ``out``, each file atomically. Returns ``{name: path}``."""
+    figures into the folder ``out``, atomically and together
+    (:func:`pipeline._atomic.atomic_files`). Returns ``{name: path}``.
+
+    The netCDF file is made in memory (as large as the file: a few MB for 10,000 records)
+    and written by :func:`pipeline._atomic.atomic_write_bytes`: HDF5 never writes to a
+    disk that can fill under it (it spews errors and may crash the process when it does),
+    and a full disk is one :class:`~pipeline.errors.OutputError`."""
     out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
-    written = {}
-    with atomic_path(out / "campaign.nc") as tmp:
-        ds.to_netcdf(tmp, engine="h5netcdf")
-    written["campaign.nc"] = out / "campaign.nc"
-    atomic_write_text(out / "campaign.csv", table_of(ds).to_csv(index=False))
-    written["campaign.csv"] = out / "campaign.csv"
-    for name, fig in figures.campaign_figures(ds).items():
-        written[name] = figures.save(fig, out / name)
+    written = {"campaign.nc": out / "campaign.nc", "campaign.csv": out / "campaign.csv"}
+    with atomic_files(out):  # all of them, or none (the previous stay)
+        atomic_write_bytes(written["campaign.nc"], ds.to_netcdf(engine="h5netcdf"))
+        atomic_write_text(written["campaign.csv"], table_of(ds).to_csv(index=False))
+        for name, fig in figures.campaign_figures(ds).items():
+            written[name] = figures.save(fig, out / name)
     return written
 
 

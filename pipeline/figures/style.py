@@ -3,13 +3,14 @@
 
 from __future__ import annotations
 
+import io
 from contextlib import contextmanager
 from pathlib import Path
 
 import matplotlib as mpl
 from matplotlib.figure import Figure
 
-from .._atomic import atomic_path
+from .._atomic import atomic_write_bytes
 
 __all__ = ["STYLE", "SINGLE", "DOUBLE", "COLORS", "style", "new_figure", "save", "panel_label"]
 
@@ -87,11 +88,15 @@ def new_figure(nrows=1, ncols=1, *, width=SINGLE, height=None, **subplots_kw):
 def save(fig: Figure, path, **savefig_kw) -> Path:
     """Write ``fig`` to ``path`` atomically (temporary file, then rename).
 
-    The format follows the suffix (``.png``, ``.pdf``, ``.svg``). Returns the path.
+    The format follows the suffix (``.png``, ``.pdf``, ``.svg``). The figure is drawn in
+    memory and written by :func:`pipeline._atomic.atomic_write_bytes`, so a full disk is
+    one :class:`~pipeline.errors.OutputError`. Returns the path.
     """
     path = Path(path)
-    with atomic_path(path) as tmp, style():
-        fig.savefig(tmp, format=path.suffix.lstrip(".") or None, **savefig_kw)
+    buf = io.BytesIO()
+    with style():
+        fig.savefig(buf, format=path.suffix.lstrip(".") or None, **savefig_kw)
+    atomic_write_bytes(path, buf.getbuffer())
     return path
 
 
