@@ -4,21 +4,35 @@
 ``make reproduce`` runs. Each subcommand module has ``register(subparsers)``, which adds
 its parser and sets ``func``; :func:`main` runs it.
 
-Exit statuses (:data:`pipeline.cli._common.EXIT_CODES`): 0 success; 1 some records failed
-(``reproduce``: the rest were processed); 2 bad input or a bad argument — one line,
-``error: ...``, never a traceback; 3 an internal error (a bug; ``-v`` shows the
-traceback).
+Exit statuses (:data:`pipeline.cli._common.EXIT_CODES`; docs/cli.md): 0 success; 1 some
+records failed (``reproduce``, ``campaign``: the rest were processed); 2 bad input or a bad
+argument — one line, ``error: ...``, never a traceback; 3 an internal error (a bug; ``-v``
+shows the traceback); 4 the disk is full, 5 the output folder cannot be written (read-only,
+no permission, vanished), 6 the disk failed (an input/output error) — one line naming the
+file and saying that the previous output is untouched (:class:`pipeline.errors.OutputError`);
+130 interrupted (Ctrl-C). The standard output is flushed before the status is returned, so
+a full disk under it is one of these lines too, not a message of the interpreter's.
 """
 
 from __future__ import annotations
 
+import contextlib
+import errno
 import logging
+import os
 import sys
 import traceback
 
-from ..errors import InputError
+from ..errors import InputError, OutputError
 from . import analyse, campaign, export, fit, report, reproduce
-from ._common import EXIT_BAD_INPUT, EXIT_CODES, EXIT_INTERNAL, Parser
+from ._common import (
+    EXIT_BAD_INPUT,
+    EXIT_CODES,
+    EXIT_FAULT,
+    EXIT_INTERNAL,
+    EXIT_INTERRUPTED,
+    Parser,
+)
 
 #: The subcommand modules, in the order ``pipeline --help`` lists them.
 COMMANDS = (reproduce, analyse, fit, campaign, report, export)
@@ -37,23 +51,77 @@ def main(argv=None) -> int:
         level=logging.INFO if args.verbose else logging.WARNING,
         format="%(levelname)s %(name)s: %(message)s",
     )
+    stdout, sys.stdout = sys.stdout, _Stdout(sys.stdout)
     try:
-        return args.func(args)
+        return _run(args)
+    finally:
+        sys.stdout = stdout
+
+
+def _run(args) -> int:
+    """Run the subcommand; every way it can end is an exit status and at most one line."""
+    try:
+        status = args.func(args)
+        sys.stdout.flush()
+        return status
+    except OutputError as exc:  # a fault of the machine: the previous output is untouched
+        return _fail(exc, EXIT_FAULT[exc.fault])
     except InputError as exc:
-        print(f"error: {_one_line(str(exc))}", file=sys.stderr)
-        return EXIT_BAD_INPUT
-    except OSError as exc:  # the output cannot be written: a full disk, no permission
-        print(f"error: {_one_line(str(exc))}", file=sys.stderr)
-        return EXIT_BAD_INPUT
+        return _fail(exc, EXIT_BAD_INPUT)
+    except OSError as exc:  # not an output's: a library's own file, or an input
+        fault = OutputError(exc.errno, exc.strerror or str(exc), exc.filename or "a file")
+        if fault.fault == "unwritable" and exc.errno != errno.EROFS:
+            return _fail(exc, EXIT_BAD_INPUT)  # a missing or unreadable input, most likely
+        return _fail(fault, EXIT_FAULT[fault.fault])
+    except KeyboardInterrupt:
+        return _fail("interrupted; the previous output is untouched", EXIT_INTERRUPTED)
     except Exception as exc:  # a bug: one line (the traceback with -v), never a crash dump
         if args.verbose:
             traceback.print_exc(file=sys.stderr)
-        print(
-            f"error: internal error ({type(exc).__name__}: {_one_line(str(exc))}); run with "
+        return _fail(
+            f"internal error ({type(exc).__name__}: {_one_line(str(exc))}); run with "
             "-v for the traceback and report it",
-            file=sys.stderr,
+            EXIT_INTERNAL,
         )
-        return EXIT_INTERNAL
+
+
+def _fail(message, status: int) -> int:
+    """Say ``error: <message>`` in one line on stderr; return ``status``."""
+    try:
+        print(f"error: {_one_line(str(message))}", file=sys.stderr, flush=True)
+    except OSError:  # stderr itself full or gone: the status says it (and nothing at exit)
+        with contextlib.suppress(OSError, ValueError), open(os.devnull, "w") as null:
+            os.dup2(null.fileno(), sys.stderr.fileno())
+    return status
+
+
+class _Stdout:
+    """``sys.stdout`` whose faults name it: a full disk under a redirected output is an
+    :class:`OutputError` on "the standard output", and its unwritten rest is dropped (so
+    the interpreter does not fail again at exit with a message of its own). A reader that
+    went away (``| head``) is no fault: the rest of the output is dropped."""
+
+    def __init__(self, stream):
+        self._stream = stream
+
+    def write(self, text):
+        return self._guard(self._stream.write, text)
+
+    def flush(self):
+        return self._guard(self._stream.flush)
+
+    def _guard(self, fn, *args):
+        try:
+            return fn(*args)
+        except OSError as exc:
+            with contextlib.suppress(OSError, ValueError), open(os.devnull, "w") as null:
+                os.dup2(null.fileno(), self._stream.fileno())
+            if exc.errno == errno.EPIPE:
+                return None
+            raise OutputError(exc.errno, exc.strerror, "the standard output") from exc
+
+    def __getattr__(self, name):
+        return getattr(self._stream, name)
 
 
 def _one_line(text: str) -> str:

@@ -12,13 +12,23 @@ from pathlib import Path
 
 from ..errors import InputError
 
-#: Exit statuses of every command (``pipeline --help`` lists them).
+#: Exit statuses of every command (``pipeline --help`` lists them; docs/cli.md explains).
 EXIT_OK, EXIT_FAILED_RECORDS, EXIT_BAD_INPUT, EXIT_INTERNAL = 0, 1, 2, 3
+#: A fault of the machine while writing the output (:class:`pipeline.errors.OutputError`):
+#: the disk full, the output's folder not writable (read-only, no permission, vanished), an
+#: input/output error of the device. The previous output stays, whole.
+EXIT_DISK_FULL, EXIT_UNWRITABLE, EXIT_DEVICE = 4, 5, 6
+#: Interrupted (Ctrl-C), as a shell reports a process that SIGINT ended (128 + 2).
+EXIT_INTERRUPTED = 130
+#: The exit status of each :attr:`pipeline.errors.OutputError.fault`.
+EXIT_FAULT = {"full": EXIT_DISK_FULL, "unwritable": EXIT_UNWRITABLE, "device": EXIT_DEVICE}
 EXIT_CODES = (
-    "exit status: 0 success; 1 some records failed (reproduce: the others were processed "
-    "and the failures are listed in summary.json and report.md); 2 bad input or a bad "
+    "exit status: 0 success; 1 some records failed (reproduce, campaign: the others were "
+    "processed and the failures are listed with their reasons); 2 bad input or a bad "
     "argument (a one-line message says which); 3 an internal error (a bug: run with -v "
-    "for the traceback, and report it)"
+    "for the traceback, and report it); 4 the disk is full, 5 the output folder cannot be "
+    "written (read-only, no permission, vanished), 6 the disk failed (input/output error): "
+    "one line names the file, and the previous output is untouched; 130 interrupted"
 )
 
 

@@ -115,11 +115,13 @@ def _readable(a, sources: dict, checks, advice=None) -> str:
 
 
 def _write(out: Path, a, summary: dict, text: str) -> None:
+    """The files of ``--out``, put in place together (the previous ones stay on a fault)."""
     from .. import figures
-    from .._atomic import atomic_write_text
+    from .._atomic import atomic_files, atomic_write_text
 
-    out.mkdir(parents=True, exist_ok=True)
-    atomic_write_text(out / "summary.json", json.dumps(summary, indent=1, allow_nan=False) + "\n")
-    atomic_write_text(out / "summary.txt", text + "\n")
-    figures.save(figures.fig8_forces(a), out / "fig8_forces.png")
-    figures.save(figures.fig9_percussion_plane(a), out / "fig9_percussion_plane.png")
+    with atomic_files(out):
+        summary = json.dumps(summary, indent=1, allow_nan=False) + "\n"
+        atomic_write_text(out / "summary.json", summary)
+        atomic_write_text(out / "summary.txt", text + "\n")
+        figures.save(figures.fig8_forces(a), out / "fig8_forces.png")
+        figures.save(figures.fig9_percussion_plane(a), out / "fig9_percussion_plane.png")

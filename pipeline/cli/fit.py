@@ -52,7 +52,7 @@ def _sensor(args):
 
 
 def run(args) -> int:
-    from .._atomic import atomic_write_text
+    from .._atomic import atomic_files, atomic_write_text
     from ..errors import InputError
     from ..fit import fit_contact, select_model
 
@@ -83,12 +83,12 @@ def run(args) -> int:
             head = ""
             summary = fit.summary()
     text = head + fit.report()
-    if args.out is not None:
+    if args.out is not None:  # the three files go in together (the previous stay on a fault)
         from .. import figures  # matplotlib: only where a figure is drawn
 
-        args.out.mkdir(parents=True, exist_ok=True)
-        atomic_write_text(args.out / "fit.json", json.dumps(summary, indent=1, allow_nan=False))
-        atomic_write_text(args.out / "fit.txt", text + "\n")
-        figures.save(figures.fig_contact_fit(fit), args.out / "fit.png")
+        with atomic_files(args.out):
+            atomic_write_text(args.out / "fit.json", json.dumps(summary, indent=1, allow_nan=False))
+            atomic_write_text(args.out / "fit.txt", text + "\n")
+            figures.save(figures.fig_contact_fit(fit), args.out / "fit.png")
     print(json.dumps(summary, indent=1, allow_nan=False) if args.json else text)
     return 0

@@ -42,12 +42,14 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
+    from .._atomic import atomic_files
     from ..errors import InputError
     from ..notebook_report import campaign_report, record_report
 
     if not args.file.is_file():
         raise InputError("no such file; check the path", path=args.file)
-    with progress_bar(args, total=1, desc="report") as bar:
+    # the notebook and its HTML go in together (the previous pair stays on a fault)
+    with progress_bar(args, total=1, desc="report") as bar, atomic_files(args.out):
         if args.file.suffix == ".nc":
             r = campaign_report(args.file, args.out, html=not args.no_html)
         else:
