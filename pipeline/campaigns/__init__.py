@@ -158,7 +158,11 @@ def campaign(
     ------
     InputError
         No records, an unreadable table, bad options, an unreachable scheduler. A bad
-        record never raises: it is listed with ``status="failed"`` and its ``reason``.
+        record never raises: it is listed with ``status="failed"`` and its ``reason`` (a
+        record whose file vanished during the run too).
+    OutputError
+        A record's report cannot be written (a full disk, a read-only or vanished folder),
+        here or in a dask worker: the run ends.
 
     Warns
     -----

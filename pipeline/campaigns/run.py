@@ -3,12 +3,17 @@
 Each task is a pure function of its :class:`~pipeline.campaigns.tasks.RecordTask`, so the
 results gathered from a cluster, put back in task order, equal the serial ones. Records go
 to the cluster in chunks (:data:`CHUNKS_PER_WORKER` per worker), so that a record's ~20 ms
-is not eaten by the scheduler's round trip.
+is not eaten by the scheduler's round trip. A worker that cannot write the output (a
+full disk: :class:`~pipeline.errors.OutputError`) ends the run with the same one-line
+error as this process would.
 """
 
 from __future__ import annotations
 
-from ..errors import InputError
+import contextlib
+import logging
+
+from ..errors import InputError, OutputError
 
 __all__ = ["run_tasks", "local_cluster", "CHUNKS_PER_WORKER"]
 
@@ -50,8 +55,19 @@ def local_cluster(workers: int):
         )
 
 
-def _run_chunk(fn, chunk) -> list:
-    return [fn(t) for t in chunk]
+def _run_chunk(fn, chunk):
+    """The results of a chunk of tasks, or the :class:`OutputError` that ended it: returned,
+    not raised, so the worker does not log it with its traceback; the client raises it."""
+    try:
+        return [fn(t) for t in chunk]
+    except OutputError as exc:
+        return exc
+
+
+def _results(part) -> list:
+    if isinstance(part, OutputError):
+        raise part
+    return part
 
 
 def run_tasks(tasks, fn, *, workers=None, scheduler=None, progress=None) -> list:
@@ -83,6 +99,8 @@ def run_tasks(tasks, fn, *, workers=None, scheduler=None, progress=None) -> list
             raise InputError(f"workers must be ≥ 1, got {workers}")
         cluster = local_cluster(workers)
         client = Client(cluster)
+    futures = []
+    hushed = contextlib.nullcontext()
     try:
         n_workers = max(1, len(client.scheduler_info().get("workers", {})))
         size = max(1, -(-len(tasks) // (CHUNKS_PER_WORKER * n_workers)))
@@ -90,11 +108,37 @@ def run_tasks(tasks, fn, *, workers=None, scheduler=None, progress=None) -> list
         futures = [client.submit(_run_chunk, fn, c, pure=False) for c in chunks]
         if progress is not None:
             for f in as_completed(futures):
-                for r in f.result():
+                for r in _results(f.result()):
                     progress(r)
-        return [r for part in client.gather(futures) for r in part]
-    finally:
-        if client is not scheduler:
-            client.close()
+        return [r for part in client.gather(futures) for r in _results(part)]
+    except BaseException:  # the run ends here: the chunks still running are cancelled
         if cluster is not None:
-            cluster.close()
+            hushed = _hushed(client)
+        with contextlib.suppress(Exception):
+            client.cancel(futures)
+        raise
+    finally:
+        with hushed:
+            if client is not scheduler:
+                client.close()
+            if cluster is not None:
+                cluster.close()
+
+
+def _quiet():
+    logging.getLogger("distributed").setLevel(logging.ERROR)
+
+
+@contextlib.contextmanager
+def _hushed(client):
+    """A local cluster stopped mid-run (an error ends the campaign, and says why), without
+    its workers and nannies logging each chunk they cancel and each worker they stop."""
+    with contextlib.suppress(Exception):
+        client.run(_quiet)  # in the workers (their event loops answer while a chunk runs)
+    log = logging.getLogger("distributed")
+    level = log.level
+    _quiet()  # the nannies, in this process
+    try:
+        yield
+    finally:
+        log.setLevel(level)

@@ -10,7 +10,9 @@ A task that names a report folder (``RecordTask.report``) also writes the record
 report there, rendered from the analysis and fit just made
 (:func:`pipeline.notebook_report.render_record_report`: no kernel, no second analysis),
 where the task runs; a report that fails leaves the record analysed and says why in
-``RecordResult.report_error``.
+``RecordResult.report_error``. A fault of the machine on the output (a full disk, a
+read-only or vanished folder: :class:`~pipeline.errors.OutputError`) is no record's own and
+ends the run; one on a record's input (its file vanished, unreadable) fails that record.
 """
 
 from __future__ import annotations
@@ -28,7 +30,7 @@ from pathlib import Path
 
 from .._json import json_ready
 from ..analysis import OUTCOME_UNITS, Analysis, analyse
-from ..errors import InputError, PipelineWarning
+from ..errors import InputError, OutputError, PipelineWarning
 from ..fit import fit_contact
 from ..io import RECORD_SUFFIXES, scene_from_metadata
 from ..notebook_report import noted, render_record_report
@@ -287,7 +289,14 @@ def guarded(task: RecordTask, fn):
     Returns ``(value, None, warnings)`` on success, ``(None, failed RecordResult,
     warnings)`` otherwise: an :class:`InputError` gives its message as the reason, any
     other exception (a bug or a numerical failure) its type and message, logged with its
-    traceback at debug level — the record is listed and the campaign goes on.
+    traceback at debug level — the record is listed and the campaign goes on. A record
+    whose file vanished since the campaign listed it says so.
+
+    Raises
+    ------
+    OutputError
+        The campaign's output cannot be written (a full disk, a read-only or vanished
+        folder): that ends the run, whichever record met it (docs/cli.md).
     """
     failed = None
     value = None
@@ -295,6 +304,8 @@ def guarded(task: RecordTask, fn):
         warnings.simplefilter("always")
         try:
             value = fn(task)
+        except OutputError:
+            raise
         except InputError as exc:
             failed = RecordResult(task.name, "failed", str(exc))
         except Exception as exc:
@@ -306,6 +317,12 @@ def guarded(task: RecordTask, fn):
         if issubclass(w.category, PipelineWarning)
     )
     if failed is not None:
+        if not Path(task.path).exists():
+            failed = dataclasses.replace(
+                failed,
+                reason=f"{task.path}: the file vanished during the run (deleted or moved "
+                "after the campaign listed it)",
+            )
         failed = dataclasses.replace(failed, warnings=msgs)
     return value, failed, msgs
 
