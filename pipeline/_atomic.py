@@ -84,7 +84,7 @@ def atomic_path(path, *, mode: int = 0o644) -> Iterator[Path]:
         in_block = False
         os.chmod(tmp, mode)
         group = _GROUP.get()
-        if group is not None:
+        if group is not None and group.holds(path):
             group.pending.append((tmp, path))
         else:
             os.replace(tmp, path)
@@ -141,15 +141,25 @@ def make_dirs(folder) -> Path:
         raise _fault(exc, folder, "nothing was written") from exc
     group = _GROUP.get()
     if group is not None:
-        group.made += reversed(missing)
+        group.made += [m for m in reversed(missing) if group.holds(m) or group.below(m)]
     return folder
 
 
 # ----------------------------------------------------------------------- files together
 class _Group:
-    def __init__(self):
+    def __init__(self, folder: Path):
+        self.folder = os.path.abspath(folder)
         self.pending: list[tuple[str, Path]] = []  # (temporary, target), written
         self.made: list[Path] = []  # folders made for the group, parents first
+
+    def holds(self, path) -> bool:
+        """``path`` is the group's folder or inside it (a cache file elsewhere is not)."""
+        path = os.path.abspath(path)
+        return path == self.folder or path.startswith(self.folder + os.sep)
+
+    def below(self, folder) -> bool:
+        """The group's folder is inside ``folder`` (made to reach it)."""
+        return self.folder.startswith(os.path.join(os.path.abspath(folder), ""))
 
 
 _GROUP: contextvars.ContextVar[_Group | None] = contextvars.ContextVar("group", default=None)
@@ -157,11 +167,11 @@ _GROUP: contextvars.ContextVar[_Group | None] = contextvars.ContextVar("group", 
 
 @contextlib.contextmanager
 def atomic_files(folder) -> Iterator[None]:
-    """Files written in the block (by :func:`atomic_path` and the writers built on it) go
-    into place together at its end: none is renamed over its target before all are
-    written. If the block raises, no target changes and the folders made for the files
-    are removed again. ``folder`` (where the files go) names the output in the message of
-    an :class:`~pipeline.errors.OutputError`. A group inside a group joins it.
+    """Files written into ``folder`` in the block (by :func:`atomic_path` and the writers
+    built on it) go into place together at its end: none is renamed over its target
+    before all are written. If the block raises, no target changes and the folders made
+    for the files are removed again. Files elsewhere (a cache) are written as usual. A
+    group inside a group joins it (its files should be in the outer group's folder).
 
     Only the renames are left at the end (no data written, no space needed): a fault
     between two of them (the file system turned read-only in that instant) leaves the
@@ -172,7 +182,7 @@ def atomic_files(folder) -> Iterator[None]:
         return
     folder = Path(os.fspath(folder))
     existed = folder.is_dir()
-    group = _Group()
+    group = _Group(folder)
     token = _GROUP.set(group)
     try:
         yield
