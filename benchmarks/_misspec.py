@@ -46,8 +46,11 @@ The tangential force is Mindlin's spring :math:`k_t = 8G^*a`, :math:`a = \sqrt{R
 on the *total* tangential displacement ξ (ξ̇ = slip while sticking; on the Coulomb cap
 ξ = ±μF_n/k_t, left when the slip stops pushing outward — the rule of LAMMPS's ``mindlin``),
 or Coulomb friction without compliance (``tangential="coulomb"``: F_t = μF_n while the
-contact point slips, 0 once it stops). Stick and slide are integration segments joined at
-located events (:func:`scipy.integrate.solve_ivp`, DOP853, rtol 1e-11).
+contact point slips, 0 once it stops). Where stick and slide would alternate at one
+instant — the cap μF_n shrinking to zero faster than the spring can unload, as Thornton's
+force does where it lets go — the contact slides on the cap to the end. Stick and slide
+are integration segments joined at located events (:func:`scipy.integrate.solve_ivp`,
+DOP853, rtol 1e-11).
 
 On a curved target the motion is integrated in polar coordinates about the cap's centre
 (r = R + R_cap − δ, θ from the first contact normal), the force along the line of centres
@@ -560,8 +563,10 @@ def _integrate(law, mu, tangential, gk, kappa, tan_a, r_sum):
         mode = ("stick",)
     y = np.array([0.0, 1.0, 0.0, tan_a, 0.0, 0.0, 0.0, 0.0])
     tau, segments = 0.0, []
+    stalled, riding = 0, False  # switches at one instant in a row; sliding the cap out
     for _ in range(400):
-        ev = [end] + ([sw] if (sw := switch(mode)) is not None else [])
+        sw = None if riding else switch(mode)
+        ev = [end] + ([sw] if sw is not None else [])
         ev += [_turn] if law.turns else []
         sol = integrate.solve_ivp(
             rhs(mode),
@@ -576,6 +581,7 @@ def _integrate(law, mu, tangential, gk, kappa, tan_a, r_sum):
         if sol.status != 1:
             raise RuntimeError(f"contact did not end within τ = {_TAU_MAX}: {sol.message}")
         segments.append(_Segment((tau, float(sol.t[-1])), mode, sol.sol, law))
+        stalled = stalled + 1 if float(sol.t[-1]) - tau <= 1e-12 else 0
         tau, y = float(sol.t[-1]), sol.y[:, -1].copy()
         if sol.t_events[0].size:
             break
@@ -587,6 +593,11 @@ def _integrate(law, mu, tangential, gk, kappa, tan_a, r_sum):
             mode = ("slide", 1.0 if y[5] >= 0 else -1.0)
         elif tangential == "coulomb":
             mode = ("free",)
+        elif stalled >= 2:
+            # stick and slide alternate at one instant: the cap shrinks faster than the
+            # spring can follow (Thornton's force vanishes as (δ − δ_p)^{3/2} where it lets
+            # go), so the contact slides on the cap to the end
+            riding = True
         else:
             sig = mode[1]
             mode = ("stick",)

@@ -43,6 +43,18 @@ where rigid theory slides, and rigid theory is off there (the "restitution" map:
 e_t at 45° for e = 0.01). Below the sliding boundary the contact sticks, and tangential
 compliance decides e_t and ω (Ft reverses, more often as χ grows).
 
+**Yield.** Where the scene states a yield strength (``Scene.yield_strength``,
+``target_yield_strength``), :func:`advise` gives the normal approach speed at which the
+contact first yields, ``Advice.yield_speed``: the Hertz pressure at the centre reaching
+:math:`p_0 = 1.60\,Y` of the softer body (von Mises, ν = 0.3; Johnson §6.2), reached when
+:math:`\tfrac12 m^* v_y^2 = \tfrac{8}{15}E^*\sqrt{R^*}\,\delta_y^{5/2}`,
+:math:`\delta_y = R^*(\pi p_0/2E^*)^2` — for a sphere on a flat of its own material
+:math:`\rho v_y^2/Y \approx 26\,(Y/E^*)^4` (Johnson §11.4): about 0.1 m/s for a
+medium-hard steel, below 1 m/s even for a hardened one. Past it much of e < 1 is plastic
+work, not viscous damping: the reason says so, and unless ``normal=`` is given the
+compliant models use Thornton's elastic–perfectly-plastic law (``"thornton"``,
+:mod:`pipeline.contact.plastic`, calibrated to the scene's e).
+
 The comparison is as exact as the integrations behind it: the adaptive single-impact
 solver at ``rtol`` (default 1e-9) and Simpson integrals over ``samples`` = 4001 samples,
 so errors below about 1e-6 are at the resolution of the check.
@@ -51,6 +63,9 @@ References
 ----------
 N. Maw, J. R. Barber, J. N. Fawcett, "The oblique impact of elastic spheres", Wear 38:101
 (1976), doi:10.1016/0043-1648(76)90201-7.
+K. L. Johnson, *Contact Mechanics*, CUP (1985), §6.2 and §11.4,
+doi:10.1017/CBO9781139171731.
+C. Thornton, J. Appl. Mech. 64:383 (1997), doi:10.1115/1.2787319.
 F.-C. Ciornei et al., MATEC Web Conf. 112:07005 (2017), doi:10.1051/matecconf/201711207005.
 Y. C. Chung, J. Y. Ooi, Granular Matter 13:643 (2011), doi:10.1007/s10035-011-0277-0.
 """
@@ -111,6 +126,9 @@ class Advice:
     geometry : dict or None
         On a curved fixed target, :func:`geometry_error`: what the contact normal turning
         over the cap changes, which every model of the ladder ignores; None on a flat one.
+    yield_speed : float or None
+        The normal approach speed at which the contact first yields [m/s] (module notes),
+        from the scene's yield strengths; None where the scene states none.
     """
 
     model: str
@@ -124,6 +142,7 @@ class Advice:
     chi: float
     eta: float
     geometry: dict | None = None
+    yield_speed: float | None = None
 
     def summary(self) -> dict:
         """JSON-ready dict (NaN → None, inf → "inf")."""
@@ -140,6 +159,7 @@ class Advice:
                 "chi": self.chi,
                 "eta": self.eta,
                 "geometry": self.geometry,
+                "yield_speed": self.yield_speed,
             }
         )
 
@@ -218,7 +238,9 @@ def advise(
         not give.
     normal : str, optional
         The compliant models' normal law (a name in :data:`pipeline.contact.NORMAL_LAWS`);
-        default the simulator's: ``"hertz"`` for e = 1, ``"hunt_crossley"`` otherwise.
+        default the simulator's: ``"hertz"`` for e = 1, ``"hunt_crossley"`` otherwise —
+        and ``"thornton"`` where the scene states a yield strength and its impact yields
+        (module notes).
     rtol : float
         Tolerance of the single-impact integrations (:func:`pipeline.simulate.impact`).
 
@@ -256,7 +278,10 @@ def advise(
             "advise compares the rigid model with the compliant ones, which need the ball's "
             "elastic constants: give Scene(E=..., nu=...)"
         )
-    normal = simulate.default_normal(scene.e) if normal is None else normal
+    v_y, body = _yield_speed(scene)
+    yields = v_y is not None and float(scene.v_n0) > v_y
+    if normal is None:
+        normal = "thornton" if yields and scene.e < 1 else simulate.default_normal(scene.e)
     full = simulate.impact(scene, normal, "mindlin", samples=_SAMPLES, rtol=rtol)
     coul = simulate.impact(scene, normal, "coulomb", samples=_SAMPLES, rtol=rtol)
     rig = rigid.sphere_on_plane(scene)
@@ -293,6 +318,8 @@ def advise(
 
     rung = next((m for m in LADDER[:2] if worst(m) <= tol), "mindlin")
     reason = _reason(scene, rung, worst, errors, tol, rig, psi1, chi)
+    if v_y is not None:
+        reason += ". " + _yield_reason(scene, v_y, body, normal)
     geometry = None
     if np.isfinite(float(scene.target_radius)) and np.isinf(float(scene.target_mass)):
         geometry = geometry_error(scene, tol=tol, normal=normal, rtol=rtol)
@@ -316,6 +343,51 @@ def advise(
         chi=chi,
         eta=eta,
         geometry=geometry,
+        yield_speed=v_y,
+    )
+
+
+def _yield_speed(scene: Scene):
+    """(v_y [m/s], which body yields first) from the scene's yield strengths, or (None, "")
+    (module notes)."""
+    from .contact import yield_onset_pressure, yield_velocity
+
+    stated = [
+        (float(y), who)
+        for y, who in ((scene.yield_strength, "ball"), (scene.target_yield_strength, "target"))
+        if y is not None
+    ]
+    if not stated:
+        return None, ""
+    Y, who = min(stated)
+    p0 = yield_onset_pressure(Y)
+    v_y = float(yield_velocity(p0, scene.E_eff, scene.R_eff, scene.m_eff))
+    other = (
+        "" if len(stated) == 2 else f", the {'target' if who == 'ball' else 'ball'}'s not stated"
+    )
+    return v_y, f"the {who}'s Y = {Y / 1e6:.4g} MPa{other}; p_0 = 1.60·Y"
+
+
+def _yield_reason(scene, v_y, body, normal) -> str:
+    v0 = float(scene.v_n0)
+    if v0 <= v_y:
+        return (
+            f"The contact stays elastic: v_n0 = {v0:.3g} m/s is below the speed of first "
+            f"yield v_y = {v_y:.3g} m/s ({body}; Johnson §11.4)."
+        )
+    text = (
+        f"The impact yields: v_n0 = {v0:.3g} m/s is {v0 / v_y:.3g}× the speed of first yield "
+        f"v_y = {v_y:.3g} m/s ({body}; Johnson §11.4), so much of e < 1 is plastic work, not "
+        "damping"
+    )
+    if normal == "thornton":
+        return (
+            text + ": the compliant models use Thornton's elastic–plastic law (normal='thornton')."
+        )
+    if float(scene.e) == 1.0:
+        return text + ": e = 1 cannot hold past it; give the scene's e and fit normal='thornton'."
+    return (
+        text + f": Thornton's elastic–plastic law (normal='thornton') describes it, not {normal!r}."
     )
 
 

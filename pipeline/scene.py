@@ -86,6 +86,14 @@ class Scene:
     surface_speed : float
         Tangential speed of the target surface along +t [m/s] (the seed's rotating-disc
         rig); v_t0 = v·sin α − surface_speed.
+    yield_strength : float or None
+        Ball's yield strength in tension Y [Pa]. ``None`` (default): not stated. With it,
+        :func:`pipeline.advise` gives the speed at which the contact first yields
+        (Johnson 1985, §6.2 and §11.4: the central pressure reaching 1.60·Y) and says
+        whether the impact yields.
+    target_yield_strength : float or None
+        The target's yield strength Y [Pa]; ``None`` (default): not stated. The contact
+        first yields in the body with the lower Y.
     """
 
     radius: float
@@ -104,6 +112,8 @@ class Scene:
     kappa: float = 0.4
     spin: float = 0.0
     surface_speed: float = 0.0
+    yield_strength: float | None = None
+    target_yield_strength: float | None = None
 
     def __post_init__(self):
         for f in dataclasses.fields(self):
@@ -139,6 +149,8 @@ class Scene:
             ("kappa", lambda a: (a > 0) & np.isfinite(a), "κ = I/(m·R²) > 0 (0.4 solid)"),
             ("spin", np.isfinite, "a finite spin [rad/s]"),
             ("surface_speed", np.isfinite, "a finite surface speed [m/s]"),
+            ("yield_strength", lambda a: a > 0, "a positive yield strength [Pa]"),
+            ("target_yield_strength", lambda a: a > 0, "a positive yield strength [Pa]"),
         ]
         for name, ok, want in checks:
             v = getattr(self, name)

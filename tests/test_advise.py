@@ -143,3 +143,48 @@ def test_heavy_damping_sticks_where_rigid_theory_slides():
     assert a.regime == "sliding" and a.model == "mindlin"
     assert a.reason.startswith("rigid theory slides throughout")
     assert a.errors["e_t"]["rigid"] > 1e-2
+
+
+# ------------------------------------------------------------------ yield
+def test_yield_speed_of_steel_on_a_steel_flat_is_johnsons():
+    """Johnson, Contact Mechanics (CUP 1985) §11.4, doi:10.1017/CBO9781139171731: a sphere
+    striking a flat of its own material first yields at ρV_Y²/Y ≈ 26 (Y/E*)⁴ (the central
+    pressure reaching 1.60 Y, §6.2; 26 is his rounding of (4/5π)(0.8π)⁵ = 25.5), about
+    0.1 m/s for a medium-hard steel (Y = 1 GPa). At 0.6 m/s, 15° the impact is ~4× past it:
+    the reason says so and the compliant models take Thornton's law."""
+    flat = {**STEEL, "target_radius": math.inf, "e": 0.8}
+    s = Scene(angle_deg=15.0, yield_strength=1e9, target_yield_strength=1e9, **flat)
+    a = advise(s)
+    E_eff = 210e9 / (2 * (1 - 0.3**2))
+    assert 7850.0 * a.yield_speed**2 / 1e9 == pytest.approx(26 * (1e9 / E_eff) ** 4, rel=0.025)
+    ratio = 0.6 * math.cos(math.radians(15.0)) / a.yield_speed
+    assert 3.5 < ratio < 5.0
+    assert a.normal == "thornton"
+    assert "The impact yields" in a.reason and f"{ratio:.3g}× the speed of first yield" in a.reason
+    assert json.loads(json.dumps(a.summary()))["yield_speed"] == pytest.approx(a.yield_speed)
+    # a normal law the caller chose is kept, and the reason names the plastic one
+    kept = advise(s, normal="hunt_crossley")
+    assert kept.normal == "hunt_crossley" and "normal='thornton'" in kept.reason
+
+
+def test_below_the_yield_speed_the_contact_stays_elastic():
+    s = Scene(angle_deg=15.0, yield_strength=1e9, **{**STEEL, "speed": 0.05})
+    a = advise(s)
+    assert a.normal == "hunt_crossley" and a.yield_speed > 0.05
+    assert "The contact stays elastic" in a.reason and "the target's not stated" in a.reason
+
+
+def test_the_softer_body_yields_first_and_an_unstated_yield_says_nothing():
+    soft_target = advise(
+        Scene(angle_deg=15.0, yield_strength=2e9, target_yield_strength=0.4e9, **STEEL)
+    )
+    target_only = advise(Scene(angle_deg=15.0, target_yield_strength=0.4e9, **STEEL))
+    assert soft_target.yield_speed == pytest.approx(target_only.yield_speed, rel=1e-12)
+    assert "the target's Y = 400 MPa" in soft_target.reason
+    # v_y ∝ Y^{5/2} at fixed E*, R*, m* (½m*v_y² ∝ δ_y^{5/2} ∝ p_0⁵)
+    ball = advise(Scene(angle_deg=15.0, yield_strength=0.8e9, **STEEL)).yield_speed
+    assert ball / target_only.yield_speed == pytest.approx(2.0**2.5, rel=1e-12)
+    plain = advise(Scene(angle_deg=15.0, **STEEL))
+    assert plain.yield_speed is None and "yield" not in plain.reason
+    with pytest.raises(InputError, match="yield_strength"):
+        Scene(yield_strength=-1.0, **STEEL)

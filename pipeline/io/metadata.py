@@ -26,6 +26,8 @@ field              keys (case, spaces and ``_`` ignored)               units
 ``kappa``          kappa                                               —
 ``spin``           spin, initial spin                                  rad/s, rpm
 ``surface_speed``  surface speed, disc speed                           m/s …
+``yield_strength`` yield strength, ball yield strength, yield stress   Pa … GPa
+(target's)         target yield strength, target yield stress          Pa … GPa
 =================  ==================================================  ====================
 
 :func:`check_sample_rate` compares a stated sample rate (``# sample rate: 2 MHz``,
@@ -117,6 +119,11 @@ FIELDS = {
     "kappa": ("dimensionless", {"kappa"}),
     "spin": ("angular_speed", {"spin", "initialspin"}),
     "surface_speed": ("speed", {"surfacespeed", "discspeed"}),
+    "yield_strength": (
+        "pressure",
+        {"yieldstrength", "ballyieldstrength", "yieldstress", "ballyieldstress"},
+    ),
+    "target_yield_strength": ("pressure", {"targetyieldstrength", "targetyieldstress"}),
 }
 _RATE_KEYS = {
     "samplerate",
