@@ -289,6 +289,18 @@ def test_fit_recovers_a_plastic_contact():
         assert ci[name][0] <= value <= ci[name][1], (name, value, ci[name])
     assert fit.verdict["ok"] and fit.verdict["causes"] == []
     assert fit.ci()["p_y"][1] - fit.ci()["p_y"][0] < 0.1 * P_Y
+    # the yield pressure follows e one-to-one at the fitted E*, speed and ball
+    r = contact.calibrate_thornton(fit.values["e"])
+    v_fit = fit.values["speed"] * math.cos(math.radians(float(s.angle_deg)))
+    assert fit.values["v_y"] == pytest.approx(r * v_fit, rel=1e-9)
+    # (a flat target: R* and m* are the fitted ball's radius and mass)
+    p_fit = contact.yield_pressure(
+        r * v_fit, fit.values["E_eff"], fit.values["radius"], fit.values["mass"]
+    )
+    assert fit.values["p_y"] == pytest.approx(p_fit, rel=1e-9)
+    row = fit.summary()["parameters"]["p_y"]
+    assert row["derived"] and row["unit"] == "Pa" and row["ci95"] == pytest.approx(ci["p_y"])
+    assert "yield pressure, implied" in fit.report()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", PipelineWarning)
         default = fit_contact(rec, told, tangential="none", n_boot=0)

@@ -13,7 +13,9 @@ surfaces' state). :func:`fit_campaign` fits all the records in one least-squares
   (parameters ``mu_a`` [-], ``mu_b`` [s/m]);
 - ``damping``: ``"constant_e"`` (one restitution for every speed) or ``"constant_alpha"``
   (one material constant: c = α·v0 for the Hunt–Crossley family, so e falls as the speed
-  rises; docs/theory.md).
+  rises; docs/theory.md). ``alpha`` is the law's material constant
+  (:attr:`pipeline.contact.NormalLaw.material`): α [s/m] for the Hunt–Crossley family, the
+  yield speed v_y [m/s] for Thornton's plastic law (e = e(v_y/v0) falls as v0^{-1/4}).
 
 The hypotheses are fitted side by side (all four combinations by default) and
 :meth:`CampaignFit.compare` tabulates them: χ², AIC = χ² + 2k, BIC = χ² + k·ln N (the noise
@@ -488,7 +490,8 @@ def fit_campaign(
     scenes : Scene or sequence of Scene — one per record (or one for all)
     shared : sequence of str — of ``"E_eff"``, ``"kt_scale"``: one value for every record
     mu_law : {"constant", "linear_vt0"} — μ, or μ = a + b·v_t0 [b in s/m]
-    damping : {"constant_e", "constant_alpha"} — one e, or one material constant α [s/m]
+    damping : {"constant_e", "constant_alpha"} — one e, or one material constant α (the
+        law's: [s/m] for the Hunt–Crossley family, the yield speed [m/s] for Thornton's)
     normal, tangential : str — the model, as :func:`pipeline.fit.fit_contact`
 
     Other Parameters

@@ -373,7 +373,9 @@ def _pull(fit, name):
 
 def _impulse_text(fit, key, v) -> str:
     """What an impulse mismatch of channel ``key`` is (row ``v`` of :func:`impulse_mismatch`)."""
-    if abs(v["measured_Ns"] - v["model_Ns"]) > 3.0 * v["sigma_Ns"]:
+    if abs(v["measured_Ns"] - v["model_Ns"]) > 3.0 * v["sigma_Ns"] and (
+        abs(v["relative"]) > IMPULSE_FLOOR
+    ):
         return (
             f"the model's {key} over the contact is {v['model_Ns']:.5g} N s against the "
             f"measured {v['measured_Ns']:.5g} ± {v['sigma_Ns']:.2g} N s ({v['relative']:+.2%})"
