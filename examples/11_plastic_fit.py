@@ -22,7 +22,7 @@ scene = Scene(radius=3e-3, density=15630.0, E=600e9, nu=0.22, target_E=72e9, tar
 p_y = 1e9  # the yield (limiting contact) pressure [Pa]
 v_y = contact.yield_velocity(p_y, scene.E_eff, scene.R_eff, scene.m_eff)
 e = contact.cor_thornton(v_y / scene.v_n0)
-print(f"yield speed v_y = {v_y:.4f} m/s: the impact is {scene.v_n0 / v_y:.1f}× past it, e = {e:.3f}")
+print(f"v_y = {v_y:.4f} m/s: the impact is {scene.v_n0 / v_y:.1f}× past it, e = {e:.3f}")
 
 record = to_sensor(impact(scene, "thornton", "none", param=v_y / scene.v_n0), noise=0.3, seed=1)
 
@@ -47,7 +47,8 @@ print(fit.verdict["ok"], fit.verdict["causes"])
 for name, scale, unit in (("E_eff", 1e9, "GPa"), ("e", 1, ""), ("p_y", 1e9, "GPa"),
                           ("v_y", 1, "m/s")):  # fmt: skip
     lo, hi = ci[name]
-    print(f"{name:>5} = {fit.values[name] / scale:.4g} {unit}  [{lo / scale:.4g}, {hi / scale:.4g}]")
+    v = fit.values[name]
+    print(f"{name:>5} = {v / scale:.4g} {unit}  [{lo / scale:.4g}, {hi / scale:.4g}]")
 
 # %%
 # Before any data: a scene that states its yield strengths gets the speed of first yield
