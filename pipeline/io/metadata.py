@@ -6,29 +6,29 @@ A sensor export often states the impact it recorded (``# impact speed [m/s]: 0.6
 after the number — so that a bare ``# speed: 0.6`` (m/s? mm/ms?) is never guessed.
 Dimensionless fields (ν, μ, e, κ) need none. Decimal commas are read (``0,5 m/s``).
 
-=================  ==================================================  ====================
-field              keys (case, spaces and ``_`` ignored)               units
-=================  ==================================================  ====================
-``radius``         radius, ball radius, sphere radius                  m, mm, cm, µm, in
-(radius)           diameter, ball diameter, sphere diameter (halved)   m, mm, cm, µm, in
-``mass``           mass, ball mass, sphere mass                        kg, g, mg
-``density``        density, ball density                               kg/m³, g/cm³
-``E``              young's modulus, ball E, E (with a pressure unit)   Pa, kPa, MPa, GPa
-``nu``             poisson ratio, poisson's ratio, nu                  —
-``target_E``       target E, target young's modulus, target modulus    Pa … GPa
-``target_nu``      target poisson ratio, target nu                     —
-``target_radius``  target radius, cap radius                           m …
-``target_mass``    target mass                                         kg, g
-``speed``          speed, impact speed, velocity, impact velocity, v0  m/s, mm/s, cm/s, km/h
-``angle_deg``      angle, incidence, incidence angle, impact angle     deg, °, rad
-``mu``             mu, friction coefficient, coefficient of friction   —
-``e``              restitution, coefficient of restitution, cor, e     —
-``kappa``          kappa                                               —
-``spin``           spin, initial spin                                  rad/s, rpm
-``surface_speed``  surface speed, disc speed                           m/s …
-``yield_strength`` yield strength, ball yield strength, yield stress   Pa … GPa
-(target's)         target yield strength, target yield stress          Pa … GPa
-=================  ==================================================  ====================
+=========================  ==================================================  ====================
+field                      keys (case, spaces and ``_`` ignored)               units
+=========================  ==================================================  ====================
+``radius``                 radius, ball radius, sphere radius                  m, mm, cm, µm, in
+(radius)                   diameter, ball diameter, sphere diameter (halved)   m, mm, cm, µm, in
+``mass``                   mass, ball mass, sphere mass                        kg, g, mg
+``density``                density, ball density                               kg/m³, g/cm³
+``E``                      young's modulus, ball E, E (with a pressure unit)   Pa, kPa, MPa, GPa
+``nu``                     poisson ratio, poisson's ratio, nu                  —
+``target_E``               target E, target young's modulus, target modulus    Pa … GPa
+``target_nu``              target poisson ratio, target nu                     —
+``target_radius``          target radius, cap radius                           m …
+``target_mass``            target mass                                         kg, g
+``speed``                  speed, impact speed, velocity, impact velocity, v0  m/s, mm/s, cm/s, km/h
+``angle_deg``              angle, incidence, incidence angle, impact angle     deg, °, rad
+``mu``                     mu, friction coefficient, coefficient of friction   —
+``e``                      restitution, coefficient of restitution, cor, e     —
+``kappa``                  kappa                                               —
+``spin``                   spin, initial spin                                  rad/s, rpm
+``surface_speed``          surface speed, disc speed                           m/s …
+``yield_strength``         yield strength, ball yield strength, yield stress   Pa … GPa
+``target_yield_strength``  target yield strength, target yield stress          Pa … GPa
+=========================  ==================================================  ====================
 
 :func:`check_sample_rate` compares a stated sample rate (``# sample rate: 2 MHz``,
 ``# sample rate [Hz]: 2e6``, ``# fs: 1 MS/s``) with the time column: off by a power of
