@@ -39,17 +39,21 @@ class Parser(argparse.ArgumentParser):
         self.exit(EXIT_BAD_INPUT, f"error: {self.prog}: {message} (see {self.prog} --help)\n")
 
 
+def _json_object(text: str, example: str) -> dict:
+    try:
+        value = json.loads(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(f"not a JSON object ({exc})") from None
+    if not isinstance(value, dict):
+        raise argparse.ArgumentTypeError(f"give a JSON object such as {example}")
+    return value
+
+
 def parse_axes(text: str) -> dict:
     """``--axes``: ``Fn=Fz,Ft=-Fx`` or a JSON object ``{"Fn": "Fz", "Ft": "-Fx"}``."""
     text = text.strip()
     if text.startswith("{"):
-        try:
-            value = json.loads(text)
-        except ValueError as exc:
-            raise argparse.ArgumentTypeError(f"not a JSON object ({exc})") from None
-        if not isinstance(value, dict):
-            raise argparse.ArgumentTypeError('give a JSON object such as {"Fn": "Fz"}')
-        return value
+        return _json_object(text, '{"Fn": "Fz"}')
     out = {}
     for part in filter(None, (p.strip() for p in text.split(","))):
         name, sep, column = part.partition("=")
@@ -72,10 +76,7 @@ def parse_sensitivity_option(text: str) -> dict:
 
     text = text.strip()
     if text.startswith("{"):
-        try:
-            value = json.loads(text)
-        except ValueError as exc:
-            raise argparse.ArgumentTypeError(f"not a JSON object ({exc})") from None
+        value = _json_object(text, '{"Fn": [0.225, "mV/N"]}')
     else:
         value = {}
         for part in filter(None, (q.strip() for q in re.split(r"[,;](?=[^,;=]+=)", text))):

@@ -125,7 +125,6 @@ def table_record(
     forces, others = _classify(columns, p)
     chosen = resolve_axes(forces, axes, p, others=others)
     known = {**others, **forces}
-    col_sens = by_column(sens, chosen, list(known), p)
     matrix, decouple_attrs = decouple if decouple is not None else (None, {})
     needed = [key for key, _ in chosen.values()]
     if matrix is not None:
@@ -137,13 +136,7 @@ def table_record(
                 path=p,
             )
         needed += [c for c in DECOUPLE_AXES if c not in needed]
-    unused = [k for k in col_sens if k not in needed]
-    if unused:
-        raise InputError(
-            f"sensitivity given for column {unused[0]!r}, which the record does not read "
-            f"(it reads {', '.join(known[k].name for k in needed)})",
-            path=p,
-        )
+    col_sens = by_column(sens, chosen, list(known), p, read=needed, label=lambda k: known[k].name)
     feeds = {key: name for name, (key, _) in chosen.items()}
 
     if callable(time):

@@ -167,13 +167,14 @@ def parse_sensitivity(spec, *, path=None) -> dict[str, Sensitivity]:
     return out
 
 
-def by_column(sens: dict, chosen: dict, columns, path) -> dict:
+def by_column(sens: dict, chosen: dict, columns, path, *, read=None, label=None) -> dict:
     """``{file column: Sensitivity}`` for the channels ``chosen`` (record channel → (file
     column, sign), as :func:`pipeline.io._common.resolve_axes` gives it).
 
     A key that is a record channel names the column that channel reads; any other key must
-    be a column of the file (``columns``: its names). A key that matches neither is an
-    error.
+    be a column of the file (``columns``: its names) among those the record ``read``s (its
+    channels' and the decoupling's raw axes; ``label`` gives a column's name as the file
+    writes it, for the message). A key that matches neither is an error.
     """
     out: dict = {}
     for key, s in sens.items():
@@ -200,6 +201,14 @@ def by_column(sens: dict, chosen: dict, columns, path) -> dict:
         if col in out and out[col] != s:
             raise InputError(f"two sensitivities for column {col!r}; give one", path=path)
         out[col] = s
+    unused = [c for c in out if read is not None and c not in read]
+    if unused:
+        name = label or str
+        raise InputError(
+            f"sensitivity given for column {name(unused[0])!r}, which the record does not read "
+            f"(it reads {', '.join(name(c) for c in read)})",
+            path=path,
+        )
     return out
 
 

@@ -620,14 +620,11 @@ def _parse_table(
                 line=header_line,
             )
         needed += [c for c in DECOUPLE_AXES if c not in needed]
-    col_sens = by_column(parse_sensitivity(sensitivity, path=p), chosen, list(columns), p)
+    col_sens = by_column(
+        parse_sensitivity(sensitivity, path=p), chosen, list(columns), p, read=needed,
+        label=lambda c: columns[c][1],
+    )  # fmt: skip
     feeds = {col: name for name, (col, _) in chosen.items()}
-    if unused := [c for c in col_sens if c not in needed]:
-        raise InputError(
-            f"sensitivity given for column {columns[unused[0]][1]!r}, which the record does "
-            "not read",
-            path=p,
-        )
     f_factors = {}  # file column → (factor to N, unit)
     for col in needed:
         _, h, unit = columns[col]

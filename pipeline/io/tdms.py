@@ -256,7 +256,6 @@ def read_tdms(
             )
     g, force_chs, time_ch = found[0]
     chosen = resolve_axes(force_chs, axes, p)
-    col_sens = by_column(sens, chosen, list(force_chs), p)
     feeds = {col: name for name, (col, _) in chosen.items()}
     needed = [col for col, _ in chosen.values()]
     if matrix is not None:
@@ -268,12 +267,9 @@ def read_tdms(
                 path=p,
             )
         needed += [c for c in DECOUPLE_AXES if c not in needed]
-    if unused := [c for c in col_sens if c not in needed]:
-        raise InputError(
-            f"sensitivity given for channel {force_chs[unused[0]].name!r}, which the record "
-            "does not read",
-            path=p,
-        )
+    col_sens = by_column(
+        sens, chosen, list(force_chs), p, read=needed, label=lambda c: force_chs[c].name
+    )
     try:
         data = {col: np.asarray(force_chs[col][:], dtype=float) for col in needed}
     except (TypeError, ValueError) as exc:
