@@ -319,6 +319,33 @@ ERRORS = {
         InputError,
         "'load' must be an object",
     ),
+    # the files labs write (issue 20): volts, LabVIEW, MATLAB
+    "volts_without_a_sensitivity": (
+        lambda d: (_lab(d, "sensor_volts.lvm", {}), None),
+        InputError,
+        "run.lvm, line 19, column Fz: Fn (column 'Fz') is in volts ('Volts'), not a force unit: give "
+        "the channel's sensitivity",
+    ),
+    "sensitivity_given_as_a_bridge_rating": (
+        lambda d: (_lab(d, "sensor_volts.lvm", {"sensitivity": {"Fn": [2.0, "mV/V"]}}), None),
+        InputError,
+        "sensitivity['Fn'] is a bridge's ratiometric rating (2 mV/V), not a sensitivity",
+    ),
+    "lvm_cut_inside_its_segment_header": (
+        lambda d: (_lab(d, "sensor_volts.lvm", {}, cut=700), None),
+        InputError,
+        "truncated: a segment header never ends",
+    ),
+    "matlab_array_without_column_names": (
+        lambda d: (_lab(d, "sensor_v73.mat", {}), None),
+        InputError,
+        "run.mat: no time vector, but 2-D arrays: data.raw (166×4 float64); name the columns",
+    ),
+    "matlab_v73_file_cut_in_half": (
+        lambda d: (_lab(d, "sensor_v73.mat", {}, cut=5000), None),
+        InputError,
+        "run.mat: cannot read this MATLAB v7.3 (HDF5) file",
+    ),
     "scene_file_malformed_json": (
         lambda d: (_gr_variant(d, "a.csv"), _scene(d, b'{"radius": 0.0127,')),
         InputError,
@@ -404,6 +431,18 @@ WARNINGS = {
         "a step of 6.667e-07 s",
     ),
 }
+
+
+def _lab(folder, sample, side, cut=None):
+    """A lab-format sample (data_samples/sensor_volts.lvm, sensor_v73.mat) with the sidecar
+    ``side`` (its scene added) instead of its own; ``cut`` keeps that many bytes."""
+    src = SAMPLES / sample
+    p = folder / f"run{src.suffix}"
+    raw = src.read_bytes()
+    p.write_bytes(raw[:cut] if cut else raw)
+    scene = json.loads(src.with_suffix(".json").read_text())["scene"]
+    p.with_suffix(".json").write_text(json.dumps({"scene": scene, **side}))
+    return p
 
 
 def _side(folder, content, head=None):

@@ -45,12 +45,14 @@ class Column:
         column no channel takes is never parsed)
     unit : str or None — the unit the file states
     lines : numpy.ndarray or None — the file line of each sample (text files)
+    unit_line : int or None — the file line that states the unit (text files)
     """
 
     name: str
     values: object
     unit: str | None = None
     lines: np.ndarray | None = None
+    unit_line: int | None = None
 
     def array(self) -> np.ndarray:
         """The values as floats (read now if they were deferred)."""
@@ -178,6 +180,7 @@ def table_record(
             col_sens.get(key),
             path=p,
             column=col.name,
+            line=col.unit_line,
             channel=feeds.get(key),
         )
         _finite(col, values[key], "force", p)

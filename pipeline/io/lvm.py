@@ -499,7 +499,10 @@ def _segment_columns(seg: _Segment, p, x_unit):
                 path=p,
                 line=header["Y_Unit_Label"][1],
             )
-        col = Column(base, (lambda k=k, name=names[k]: numbers(k, name)), label or unit, lines)
+        where = header["Y_Unit_Label"][1] if label else seg.names_line
+        col = Column(
+            base, (lambda k=k, name=names[k]: numbers(k, name)), label or unit, lines, where
+        )
         out.append(col)
         by_k[id(col)] = k
     meta = {}
