@@ -267,6 +267,17 @@ def test_lvm_real_segments():
     _raises("segment=3 but the file holds 3 segment(s) (0 to 2)", read_lvm, p, segment=3)
 
 
+def test_lvm_segment_header_without_its_blank_line_is_not_read_as_data(tmp_path):
+    """A damaged copy where the blank line before a segment header is lost: the header's
+    lines (Channels 1, Samples 3...) must not become samples of the segment before."""
+    raw = (LVM / "segments.lvm").read_bytes().replace(b"\r\n\r\nChannels", b"\r\nChannels", 1)
+    p = tmp_path / "joined.lvm"
+    p.write_bytes(raw)
+    rec = read_lvm(p, segment=0, axes={"Fn": "Untitled"}, force_unit="N")
+    np.testing.assert_array_equal(rec["Fn"].values, [1.0, 2.5, -3.25])
+    assert read_lvm(p, segment=1, axes={"Fn": "Untitled"}, force_unit="N").sizes["time"] == 3
+
+
 def test_lvm_real_one_header_only_appended_write_is_named():
     err = _raises(
         "time goes backwards (2.0 then 0.0 s); time must strictly increase (with 'one header "

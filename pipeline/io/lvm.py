@@ -73,6 +73,8 @@ import numpy as np
 from ..errors import InputError
 from ._common import (
     LINE_END,
+    NONFINITE,
+    NUMBER,
     decode,
     meta_key,
     read_decoupling,
@@ -96,7 +98,6 @@ _FORMAT_TAGS = {
     "x_columns",
 }
 _ESCAPE = re.compile(r"\\(\\|[0-9A-Fa-f]{2})")
-_NUMBER = re.compile(r"^[+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?$|^[+-]?(?:nan|inf)$", re.I)
 _MAX_COMMENTS = 20
 #: Segment-header tags kept as metadata (``meta_<tag>``, their first cell).
 _SEGMENT_TAGS = (
@@ -108,6 +109,11 @@ _SEGMENT_TAGS = (
     "UUT_Serial_Numbers",
     "UUT_Name",
 )
+
+
+def _is_number(cell: str) -> bool:
+    """A decimal number (point), or LabVIEW's ``NaN``/``Inf`` (refused later, by line)."""
+    return bool(NUMBER.match(cell) or NONFINITE.match(cell))
 
 
 def is_lvm_text(head: str) -> bool:
@@ -187,11 +193,10 @@ def _parse(text: str, p):
             if not line.strip(blank):
                 state = "between"  # a blank line ends the segment's data
                 continue
-            if tag.startswith("***Start_Special***"):
-                state = "special"
+            if not tag or _is_number(tag.replace(",", ".")):
+                current.rows.append((n, cells))
                 continue
-            current.rows.append((n, cells))
-            continue
+            state = "between"  # a header or a block begins without the blank line
         if state == "header":
             if tag == END:
                 state = "columns"
@@ -229,7 +234,7 @@ def _parse(text: str, p):
             current.names, current.names_line = [c.strip() for c in cells], n
             segments.append(current)
             state = "rows"
-        elif _NUMBER.match(tag.replace(",", ".")) or tag == "":
+        elif _is_number(tag.replace(",", ".")) or tag == "":
             if current is None or current.names is None:
                 raise InputError(
                     "a data row before any column line ('X_Value' and the channel names)",
@@ -292,7 +297,7 @@ def _numbers(texts: list, dec: str) -> np.ndarray:
         values = None
     if values is None or any("_" in c for c in texts):
         for i, c in enumerate(texts):
-            if not _NUMBER.match(c.strip()):
+            if not _is_number(c.strip()):
                 raise ValueError(i)
     return values
 
