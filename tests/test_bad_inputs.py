@@ -323,8 +323,8 @@ ERRORS = {
     "volts_without_a_sensitivity": (
         lambda d: (_lab(d, "sensor_volts.lvm", {}), None),
         InputError,
-        "run.lvm, line 19, column Fz: Fn (column 'Fz') is in volts ('Volts'), not a force unit: give "
-        "the channel's sensitivity",
+        "run.lvm, line 19, column Fz: Fn (column 'Fz') is in volts ('Volts'), not a force "
+        "unit: give the channel's sensitivity",
     ),
     "sensitivity_given_as_a_bridge_rating": (
         lambda d: (_lab(d, "sensor_volts.lvm", {"sensitivity": {"Fn": [2.0, "mV/V"]}}), None),
