@@ -371,7 +371,7 @@ def test_lvm_without_segment_header_and_with_a_special_block(tmp_path):
     ("body", "kwargs", "fragment", "line"),
     [
         (SEGMENT + "\t1\t2\n\t1\tx\n", {"x": "No"}, "cell 'x' is not a number", 21),
-        (SEGMENT + "\t1\t2\n\t\t2\n", {"x": "No"}, "cell is empty", 21),
+        (SEGMENT + "\t1\t2\n\t\t2\n", {"x": "No"}, "force value nan is missing", 21),
         (SEGMENT + "\t1\t2\tc\td\te\n\t1\t2\n", {"x": "No"},
          "6 cells but the column line (line 19) names 4", 20),
         (SEGMENT + "\tNaN\t2\n\t1\t2\n", {"x": "No"}, "force value nan is missing, NaN", 20),

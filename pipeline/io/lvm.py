@@ -66,9 +66,13 @@ refusal an :class:`~pipeline.errors.InputError` with the file and line.
 
 from __future__ import annotations
 
+import csv
+import io
 import re
+import warnings
 
 import numpy as np
+import pandas as pd
 
 from ..errors import InputError
 from ._common import (
@@ -135,7 +139,8 @@ class _Segment:
         self.header_line = header_line
         self.names: list | None = None
         self.names_line: int | None = None
-        self.rows: list = []  # (line number, cells)
+        self.rows: list = []  # the data lines, as text
+        self.first_row: int | None = None  # the line number of the first
 
 
 def _separator(lines: list, p) -> str:
@@ -174,9 +179,33 @@ def _parse(text: str, p):
     state = "file"
     current = None
     blank = " \t" + sep
-    for n, line in enumerate(lines, start=1):
-        if n == 1:
-            continue
+    starts = set("0123456789+-.,") | {sep}
+
+    def is_row(line: str) -> bool:
+        """A data line: not blank, first cell empty or a number (a header line starts with
+        a tag, a special block with ***)."""
+        if not line.strip(blank):
+            return False
+        if line[0] in starts:
+            return True
+        tag = line.split(sep, 1)[0].strip()
+        return not tag or _is_number(tag.replace(",", "."))
+
+    def take_rows(seg: _Segment, i: int) -> int:
+        """Append the data lines from index ``i`` on to ``seg``; the index after them."""
+        j = i
+        while j < len(lines) and is_row(lines[j]):
+            j += 1
+        seg.rows.extend(lines[i:j])
+        if seg.first_row is None:
+            seg.first_row = i + 1
+        return j
+
+    i = 1
+    while i < len(lines):
+        line = lines[i]
+        n = i + 1
+        i += 1
         cells = line.split(sep)
         tag = cells[0].strip()
         if state == "special":
@@ -189,14 +218,6 @@ def _parse(text: str, p):
             elif tag:
                 file_header[tag] = (cells[1].strip() if len(cells) > 1 else "", n)
             continue
-        if state == "rows":
-            if not line.strip(blank):
-                state = "between"  # a blank line ends the segment's data
-                continue
-            if not tag or _is_number(tag.replace(",", ".")):
-                current.rows.append((n, cells))
-                continue
-            state = "between"  # a header or a block begins without the blank line
         if state == "header":
             if tag == END:
                 state = "columns"
@@ -215,7 +236,7 @@ def _parse(text: str, p):
                 )
             current.names = [c.strip() for c in cells]
             current.names_line = n
-            state = "rows"
+            i, state = take_rows(current, i), "between"
             continue
         # between segments
         if is_lvm_text(line):  # a later session appended to the file: a new file header
@@ -233,7 +254,7 @@ def _parse(text: str, p):
             current = _Segment(file_header, n)
             current.names, current.names_line = [c.strip() for c in cells], n
             segments.append(current)
-            state = "rows"
+            i = take_rows(current, i)
         elif _is_number(tag.replace(",", ".")) or tag == "":
             if current is None or current.names is None:
                 raise InputError(
@@ -244,9 +265,8 @@ def _parse(text: str, p):
             # rows after a blank line: a later write without its own header
             nxt = _Segment(current.file_header, current.header_line)
             nxt.header, nxt.names, nxt.names_line = current.header, current.names, n
-            nxt.rows.append((n, cells))
             segments.append(nxt)
-            current, state = nxt, "rows"
+            current, i = nxt, take_rows(nxt, i - 1)
         else:
             current = _Segment(file_header, n)
             current.header[tag] = (cells[1:], n)
@@ -300,6 +320,55 @@ def _numbers(texts: list, dec: str) -> np.ndarray:
             if not _is_number(c.strip()):
                 raise ValueError(i)
     return values
+
+
+def _split(seg: _Segment, sep: str, n: int, numeric=(), dec="."):
+    """The rows as a DataFrame of ``n`` columns by pandas' C parser, columns ``numeric``
+    as floats (decimal mark ``dec``), the others as text (missing cells ``""``); None when
+    the parser refuses them or a row has more cells than the column line names."""
+    extra = 4  # trailing separators: empty cells past the column line are let pass
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", pd.errors.ParserWarning)
+            frame = pd.read_csv(
+                io.StringIO("\n".join(seg.rows)),
+                sep=sep,
+                header=None,
+                names=range(n + extra),
+                index_col=False,
+                dtype={k: (float if k in numeric else str) for k in range(n + extra)},
+                decimal=dec,
+                keep_default_na=False,
+                na_values={k: [""] for k in numeric},
+                quoting=csv.QUOTE_NONE,
+                engine="c",
+                skip_blank_lines=False,
+            )
+    except (ValueError, pd.errors.ParserError, pd.errors.ParserWarning):
+        return None
+    if len(frame) != len(seg.rows) or (frame.iloc[:, n:] != "").to_numpy().any():
+        return None
+    return frame.iloc[:, :n]
+
+
+def _cells(seg: _Segment, sep: str, n: int, p) -> pd.DataFrame:
+    """The rows as ``n`` columns of text (missing cells ``""``); a row with more non-empty
+    cells than the column line names is refused with its line."""
+    frame = _split(seg, sep, n)
+    if frame is not None:
+        return frame
+    for i, line in enumerate(seg.rows):  # the error path: find the row
+        cells = line.split(sep)
+        if len(cells) > n and any(c.strip() for c in cells[n:]):
+            raise InputError(
+                f"{len(cells)} cells but the column line (line {seg.names_line}) names {n}; "
+                "the file is damaged",
+                path=p,
+                line=seg.first_row + i,
+            )
+    raise InputError(  # pragma: no cover - pandas split what str.split would not
+        "cannot split the rows into cells; check the separator", path=p, line=seg.first_row
+    )
 
 
 def read_lvm(
@@ -361,7 +430,7 @@ def read_lvm(
     matrix = None if decouple is None else read_decoupling(decouple)
     p, raw, sha = read_raw(path)
     text, used_encoding = _decode(raw, p, encoding)
-    _, segments = _parse(text, p)
+    sep, segments = _parse(text, p)
     if segment is None:
         if len(segments) > 1:
             listing = "; ".join(
@@ -385,7 +454,7 @@ def read_lvm(
             )
         index = segment
     seg = segments[index]
-    time, columns, meta = _segment_columns(seg, p, None if time_unit is not None else "s")
+    time, columns, meta = _segment_columns(seg, sep, p, None if time_unit is not None else "s")
     attrs = {
         "lvm_x_columns": _setting(seg.file_header, "X_Columns", "One"),
         "lvm_segment": float(index),
@@ -433,7 +502,7 @@ def _channel_names(seg: _Segment) -> list:
     return [n for k, n in enumerate(names) if k > 0 and n not in ("X_Value", "Comment")]
 
 
-def _segment_columns(seg: _Segment, p, x_unit):
+def _segment_columns(seg: _Segment, sep: str, p, x_unit):
     """The time column (a function of the channels read), the channel columns and the
     metadata of a segment; ``x_unit`` the X values' unit (LabVIEW's seconds, or None when
     ``time_unit=`` gives it)."""
@@ -456,32 +525,31 @@ def _segment_columns(seg: _Segment, p, x_unit):
         raise InputError("the column line names no channel", path=p, line=seg.names_line)
     if not seg.rows:
         raise InputError("header only: the segment has no data rows", path=p, line=seg.names_line)
-    lines = np.array([n for n, _ in seg.rows])
+    lines = seg.first_row + np.arange(len(seg.rows))
+    # the usual file: every cell but the comments a number, read by the C parser at once;
+    # else the text, whose error path names the line and column of the first bad cell
+    fast = _split(seg, sep, len(names), numeric=range(width), dec=dec)
+    table = fast if fast is not None else _cells(seg, sep, len(names), p)
     by_k: dict = {}
     comments = []
-    for n, cells in seg.rows:
-        if len(cells) > len(names) or (not has_comment and len(cells) > width):
-            if all(not c.strip() for c in cells[len(names) :]):
-                continue  # trailing separators
-            raise InputError(
-                f"{len(cells)} cells but the column line (line {seg.names_line}) names "
-                f"{len(names)}; the file is damaged",
-                path=p,
-                line=n,
-            )
-        if has_comment and len(cells) == len(names) and cells[-1].strip():
-            comments.append(f"line {n}: {_unescape(cells[-1].strip())}")
-
-    def column(k: int) -> list:
-        return [cells[k].strip() if k < len(cells) else "" for _, cells in seg.rows]
+    if has_comment:
+        notes = table[len(names) - 1].str.strip().to_numpy()
+        for i in np.flatnonzero(notes != "")[: _MAX_COMMENTS + 1]:
+            comments.append(f"line {lines[i]}: {_unescape(notes[i])}")
+        extra = int(np.count_nonzero(notes != "")) - len(comments)
 
     def numbers(k: int, name: str) -> np.ndarray:
-        texts = column(k)
-        try:
-            return _numbers(texts, dec)
-        except ValueError as exc:
-            i = exc.args[0]
-            cell = texts[i]
+        """The column's numbers; a cell that is not one is refused with its line."""
+        if fast is not None:
+            return fast[k].to_numpy(dtype=float)
+        texts = table[k].str.strip()
+        if dec == ",":
+            texts = texts.str.replace(",", ".", regex=False)
+        values = pd.to_numeric(texts, errors="coerce").to_numpy(dtype=float)
+        bad = np.isnan(values) & ~texts.str.fullmatch(r"[+-]?nan", case=False).to_numpy()
+        if bad.any():
+            i = int(np.argmax(bad))
+            cell = table[k].iat[i].strip()
             what = "is empty" if not cell else f"{cell!r} is not a number"
             raise InputError(
                 f"cell {what}; repair or delete this line (decimal "
@@ -489,7 +557,8 @@ def _segment_columns(seg: _Segment, p, x_unit):
                 path=p,
                 line=int(lines[i]),
                 column=name,
-            ) from None
+            )
+        return values
 
     out = []
     for k in channels:
@@ -519,7 +588,7 @@ def _segment_columns(seg: _Segment, p, x_unit):
         if tag in _SEGMENT_TAGS and values:
             meta[meta_key(tag)] = _unescape(values[0])
     if comments:
-        more = len(comments) - _MAX_COMMENTS
+        more = len(comments) - _MAX_COMMENTS + extra
         meta["meta_comment"] = "\n".join(comments[:_MAX_COMMENTS]) + (
             f"\n(and {more} more)" if more > 0 else ""
         )
