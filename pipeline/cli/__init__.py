@@ -51,6 +51,9 @@ def main(argv=None) -> int:
         level=logging.INFO if args.verbose else logging.WARNING,
         format="%(levelname)s %(name)s: %(message)s",
     )
+    if not args.verbose:
+        # a dask cluster's INFO lines (started, stopped; here and in its workers): with -v
+        os.environ.setdefault("DASK_LOGGING__DISTRIBUTED", "warning")
     stdout, sys.stdout = sys.stdout, _Stdout(sys.stdout)
     try:
         return _run(args)
