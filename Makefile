@@ -62,4 +62,4 @@ lint: $(STAMP)
 	$(PY) -m ruff check pipeline tests benchmarks scripts examples docs
 
 clean:
-	rm -rf build .pytest_cache docs/auto_examples docs/reference docs/sg_execution_times.rst
+	rm -rf build .pytest_cache docs/auto_examples docs/reference

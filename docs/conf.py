@@ -21,7 +21,6 @@ from __future__ import annotations
 import os
 import re
 import sys
-import warnings
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
@@ -60,13 +59,13 @@ myst_enable_extensions = ["colon_fence", "deflist"]
 myst_heading_anchors = 3  # `[campaigns.md](campaigns.md#reports)` resolves
 
 # API reference ------------------------------------------------------------------------------
-autosummary_generate = True
+autosummary_generate = True  # api_reference.py names the pages to read
 autosummary_imported_members = True
 autodoc_default_options = {"member-order": "bysource"}
 autodoc_typehints = "none"  # the numpydoc sections state types and units
 numpydoc_show_class_members = False  # the class template lists them
 numpydoc_class_members_toctree = False
-numpydoc_xref_param_type = False  # types are prose here ("float — speed [m/s]")
+numpydoc_xref_param_type = False  # types are words here ("float or array"), not targets
 add_module_names = False
 
 # Examples (sphinx-gallery runs each script at build time) -----------------------------------
@@ -75,7 +74,6 @@ sphinx_gallery_conf = {
     "gallery_dirs": "auto_examples",
     "filename_pattern": r".*\.py$",  # run every example, not only plot_*
     "within_subsection_order": "FileNameSortKey",  # 01_..., 02_...: the tour's order
-    "ignore_pattern": r"__init__\.py",
     "image_scrapers": ("gallery_figures.scraper",),  # docs/_ext
     "download_all_examples": False,
     "remove_config_comments": True,
@@ -85,8 +83,6 @@ sphinx_gallery_conf = {
     "min_reported_time": 5,
     "write_computation_times": False,  # its page loads DataTables from a CDN
 }
-
-
 
 # HTML ---------------------------------------------------------------------------------------
 html_theme = "pydata_sphinx_theme"
@@ -105,9 +101,6 @@ html_theme_options = {
     "secondary_sidebar_items": ["page-toc"],
 }
 html_sidebars = {"index": [], "getting_started": []}
-
-# The pipeline's figures draw inside a style context; the examples' figures need no pyplot.
-warnings.filterwarnings("ignore", message="Matplotlib is currently using agg")
 
 
 # ------------------------------------------------------------------------------- user guide

@@ -10,12 +10,13 @@ prediction, the deviation score, each record's fitted contact parameters, and th
 of all records (μ = a + b·v_t0, both damping hypotheses compared). A record that fails is
 listed with its reason and the rest goes on (:doc:`/campaigns`).
 
-Here the twelve bundled samples, with a small bootstrap so the example runs in seconds.
+Here the bundled Garland–Rogers-style samples (four angles × two speeds), with a small
+bootstrap so the example runs in seconds.
 """
 
 from pipeline.campaigns import campaign, table_of
 
-ds = campaign("../data_samples", n_boot=20, fit=True)
+ds = campaign("../data_samples/gr_*.csv", n_boot=20, fit=True)
 print(int((ds["status"] == "ok").sum()), "of", ds.sizes["record"], "records analysed")
 
 # %%

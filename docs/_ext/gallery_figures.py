@@ -26,4 +26,5 @@ def scraper(block, block_vars, gallery_conf):
                 path = next(block_vars["image_path_iterator"])
                 fig.savefig(path, dpi=150, bbox_inches="tight")
                 paths.append(path)
-    return figure_rst(paths, gallery_conf["src_dir"])
+    # one image each, at its own size (sphinx-gallery shrinks several into a row)
+    return "".join(figure_rst([path], gallery_conf["src_dir"]) for path in paths)
