@@ -109,6 +109,14 @@ class _Single(Design):
             P[:, 1] = e_of_alpha(self.law, P[:, 1], P[:, 0], P[:, 4], d.R_eff, d.m_eff, d.cos_a)
         return [P]
 
+    def dlocal(self, theta, vary):
+        """∂P/∂θ_vary: the identity's columns (exact), by differences where α gives e."""
+        if self.use_alpha:
+            return super().dlocal(theta, vary)
+        D = np.zeros((theta.shape[0], theta.shape[1], vary.size))
+        D[:, vary, np.arange(vary.size)] = 1.0
+        return [D]
+
 
 def e_of_alpha(law, alpha, E, speed, R_eff, m_eff, cos_a):
     """Restitution of ``law`` with material constant α [s/m] at E* [Pa] and speed [m/s], for

@@ -103,7 +103,8 @@ def run_fit(model, datas, design, init, vary, notes, *, n_boot=0, seed=0, priors
     problem = Problem(
         model, datas, design, varied, {names.index(n): pr for n, pr in priors.items()}
     )
-    params = lmfit.Parameters()  # the varied ones; the fixed stay in ``base``
+    params = []  # the varied ones (lmfit's Parameters built once, by the Minimizer); the
+    # fixed stay in ``base``
     lower = np.full(len(names), -np.inf)
     upper = np.full(len(names), np.inf)
     base = np.array([float(init[n]) for n in names])
@@ -115,7 +116,7 @@ def run_fit(model, datas, design, init, vary, notes, *, n_boot=0, seed=0, priors
         v = float(np.clip(init[n], lo, hi))
         if not (lo < v < hi):  # start strictly inside the bounds
             v = lo + 1e-6 * (hi - lo) if v <= lo else hi - 1e-6 * (hi - lo)
-        params.add(n, value=v, min=lo, max=hi)
+        params.append(lmfit.Parameter(n, value=v, min=lo, max=hi))
     order = [names[i] for i in np.flatnonzero(varied)]
     where = np.flatnonzero(varied)
 
@@ -155,8 +156,9 @@ def run_fit(model, datas, design, init, vary, notes, *, n_boot=0, seed=0, priors
     boot, blocks = None, {}
     if n_boot > 0:
         boot, blocks = block_bootstrap(
-            problem, theta, r, J, n_boot=n_boot, seed=seed, lower=lower, upper=upper
-        )
+            problem, theta, r, J, n_boot=n_boot, seed=seed, lower=lower, upper=upper,
+            gain=parts.gain,
+        )  # fmt: skip
     # ---- parameters with their uncertainty, for lmfit's report
     for j, i in enumerate(vidx):
         par = res.params[names[i]]

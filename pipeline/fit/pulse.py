@@ -176,14 +176,20 @@ class PulseTable:
         e = np.asarray(e, dtype=float)
         return e if self.power is None else (1.0 - e) ** self.power
 
+    @functools.cached_property
+    def _weights(self):
+        """The nodes in the grid variable and their barycentric weights (Chebyshev–Lobatto:
+        ±1, halved at the ends)."""
+        yn = self._y(self.e_nodes)
+        w = np.where(np.arange(yn.size) % 2 == 0, 1.0, -1.0)
+        w[0] *= 0.5
+        w[-1] *= 0.5
+        return yn, w
+
     def __call__(self, e) -> NormalPulse:
         e = _check_e(e)
         y = self._y(e)
-        yn = self._y(self.e_nodes)
-        k = np.arange(yn.size)
-        w = np.where(k % 2 == 0, 1.0, -1.0)
-        w[0] *= 0.5
-        w[-1] *= 0.5
+        yn, w = self._weights
         d = y[:, None] - yn[None, :]
         exact = d == 0
         with np.errstate(divide="ignore"):

@@ -75,43 +75,57 @@ class CovarianceParts:
     stat : numpy.ndarray (p, p)
     prior_weights : numpy.ndarray (p, n_priors) — ∂θ/∂(prior row), in parameter units per
         standard uncertainty of that input
+    gain : numpy.ndarray (p, rows) — K itself (the bootstrap's linearised refits use it)
     """
 
     total: np.ndarray
     stat: np.ndarray
     prior_weights: np.ndarray
+    gain: np.ndarray | None = None
 
 
-def covariance_parts(J, n_data, redchi) -> CovarianceParts:
-    """:class:`CovarianceParts` of a Jacobian J whose first ``n_data`` rows are the data's
-    and the rest one per prior."""
-    J = np.asarray(J, dtype=float)
-    K = _pseudo_inverse(J)  # (p, rows)
-    scale = max(1.0, float(redchi))
-    Kd, Kp = K[:, :n_data], K[:, n_data:]
-    stat = (Kd @ Kd.T) * scale
-    total = stat + Kp @ Kp.T
-    bad = ~np.isfinite(covariance(J, redchi).diagonal())
-    if bad.any():  # directions the data and the priors leave free
-        for m in (stat, total):
-            m[bad, :] = np.nan
-            m[:, bad] = np.nan
-    return CovarianceParts(total, stat, Kp)
-
-
-def covariance(J, redchi):
-    """(JᵀJ)⁻¹·max(1, χ²_ν) by SVD of the column-scaled Jacobian; NaN rows where singular."""
-    J = np.asarray(J, dtype=float)
+def _scaled_svd(J):
+    """SVD of the column-scaled J: (scales, U, w, Vᵀ, the singular values kept)."""
     s = np.sqrt(np.sum(J * J, axis=0))
     s = np.where(s > 0, s, 1.0)
     U, w, Vt = np.linalg.svd(J / s, full_matrices=False)
     good = w > w.max() * 1e-10 if w.size else np.zeros(0, bool)
+    return s, U, w, Vt, good
+
+
+def _null_directions(Vt, good):
+    """Parameters with a part in the directions J leaves free (no finite variance)."""
+    if np.all(good):
+        return np.zeros(Vt.shape[1], bool)
+    return np.abs(Vt[~good]).max(axis=0) > 1e-6
+
+
+def covariance_parts(J, n_data, redchi) -> CovarianceParts:
+    """:class:`CovarianceParts` of a Jacobian J whose first ``n_data`` rows are the data's
+    and the rest one per prior (one SVD: K = (JᵀJ)⁻¹Jᵀ and the free directions)."""
+    J = np.asarray(J, dtype=float)
+    s, U, w, Vt, good = _scaled_svd(J)
+    K = ((Vt[good].T / w[good]) @ U[:, good].T) / s[:, None]  # (p, rows)
+    scale = max(1.0, float(redchi))
+    Kd, Kp = K[:, :n_data], K[:, n_data:]
+    stat = (Kd @ Kd.T) * scale
+    total = stat + Kp @ Kp.T
+    bad = _null_directions(Vt, good)
+    if bad.any():  # directions the data and the priors leave free
+        for m in (stat, total):
+            m[bad, :] = np.nan
+            m[:, bad] = np.nan
+    return CovarianceParts(total, stat, Kp, K)
+
+
+def covariance(J, redchi):
+    """(JᵀJ)⁻¹·max(1, χ²_ν) by SVD of the column-scaled Jacobian; NaN rows where singular."""
+    s, U, w, Vt, good = _scaled_svd(np.asarray(J, dtype=float))
     inv = (Vt[good].T / w[good] ** 2) @ Vt[good]
     cov = inv / np.outer(s, s) * max(1.0, float(redchi))
-    if not np.all(good):
-        null = np.abs(Vt[~good]).max(axis=0) > 1e-6
-        cov[null, :] = np.nan
-        cov[:, null] = np.nan
+    null = _null_directions(Vt, good)
+    cov[null, :] = np.nan
+    cov[:, null] = np.nan
     return cov
 
 
@@ -161,11 +175,15 @@ def _circular_blocks(rng, r, b, B):
     n = r.size
     nb = int(math.ceil(n / b))
     starts = rng.integers(0, n, size=(B, nb))
+    if b == 1:  # white residuals: each draw is a sample (the same draws, no index arithmetic)
+        return r[starts]
     idx = (starts[:, :, None] + np.arange(b)[None, None, :]).reshape(B, -1)[:, :n] % n
     return r[idx]
 
 
-def block_bootstrap(problem: Problem, theta, r, J, *, n_boot, seed, lower, upper, iters=0):
+def block_bootstrap(
+    problem: Problem, theta, r, J, *, n_boot, seed, lower, upper, iters=0, gain=None
+):
     """Refits of block-bootstrap replicates of the weighted residuals ``r`` (module notes).
 
     Every replicate is refitted at once. By default (``iters=0``) the refit is the
@@ -188,6 +206,8 @@ def block_bootstrap(problem: Problem, theta, r, J, *, n_boot, seed, lower, upper
     n_boot : int — replicates; seed : int — of the resampling
     lower, upper : numpy.ndarray (p,) — bounds
     iters : int — Gauss–Newton iterations beyond the first step (0: the linearised refit)
+    gain : numpy.ndarray (n_vary, N), optional — K = (JᵀJ)⁻¹Jᵀ where already computed
+        (:func:`covariance_parts`)
 
     Returns
     -------
@@ -198,7 +218,7 @@ def block_bootstrap(problem: Problem, theta, r, J, *, n_boot, seed, lower, upper
     p = problem.vary.size - problem.prior_index.size
     p += sum(d.n_nuisance for d in problem.datas)
     inflate = math.sqrt(n / max(n - p, 1))
-    new_r = np.zeros((n_boot, r.size))
+    new_r = np.empty((n_boot, n))
     blocks = {}
     start = 0
     for i, d in enumerate(problem.datas):
@@ -208,18 +228,21 @@ def block_bootstrap(problem: Problem, theta, r, J, *, n_boot, seed, lower, upper
             blocks[f"{i}:{c.name}"] = b
             new_r[:, start : start + c.t.size] = _circular_blocks(rng, seg - seg.mean(), b, n_boot)
             start += c.t.size
-    # y* = model + σ·r*: in weighted units the data change by r* − r
-    dy = inflate * new_r - r[None, :]
-    dy[:, n:] = 0.0
     Theta0 = np.repeat(np.asarray(theta, float)[None, :], n_boot, axis=0)
     if iters > 0:
+        # y* = model + σ·r*: in weighted units the data change by r* − r
+        dy = np.zeros((n_boot, r.size))
+        dy[:, :n] = inflate * new_r - r[None, :n]
         Theta, _ = gauss_newton_many(
             problem, Theta0, dy, lower=lower, upper=upper, iters=iters, jacobian=J, r0=r, tol=0.01
         )
         return Theta, blocks
+    # the replicate's residuals at θ̂ are its data rows inflate·r* and the prior rows as
+    # they are: θ* = θ̂ − K·(inflate·r*, r_prior)
     v = problem.vary
-    K = _pseudo_inverse(np.asarray(J, dtype=float))
-    Theta0[:, v] = np.clip(Theta0[:, v] - (r[None, :] + dy) @ K.T, lower[v], upper[v])
+    K = _pseudo_inverse(np.asarray(J, dtype=float)) if gain is None else gain
+    step = (inflate * new_r) @ K[:, :n].T + r[n:] @ K[:, n:].T
+    Theta0[:, v] = np.clip(Theta0[:, v] - step, lower[v], upper[v])
     return Theta0, blocks
 
 
