@@ -372,16 +372,15 @@ class _Impact:
         w = np.sqrt(k)
         t1, t2 = col(self.tau_y), col(self.tau_y + self.s_m)
         L = (col(self.e) ** 2 / col(self.rho)) ** 0.4  # the unloading's length (U²/ρ)^{2/5}
-        half = 0.5 * HERTZ_TC_CONSTANT * (5.0 / 4.0) ** 0.4
         # loading (Hertz): the canonical half-pulse
-        x1, u1 = _hertz_rise(np.clip(tau / half, 0.0, 1.0))
+        x1, u1 = _hertz_rise(np.clip(tau / _HALF, 0.0, 1.0))
         # the plastic stretch
         ph = w * np.maximum(tau - t1, 0.0) - th
-        x2 = xy - 2.0 / 3.0 * xy + A * np.cos(ph)
+        x2 = xy / 3.0 + A * np.cos(ph)
         u2 = -A * w * np.sin(ph)
         # unloading: the rise of a Hertz impact of speed e on ρ, run backwards
         U = col(self.e)
-        back = np.clip((col(self.tau_c) - tau) * U / L / half, 0.0, 1.0)
+        back = np.clip((col(self.tau_c) - tau) * U / L / _HALF, 0.0, 1.0)
         z3, u3 = _hertz_rise(back)
         xp = col(self.xp)
         x3, u3 = xp + L * z3, -U * u3
@@ -401,25 +400,35 @@ class _Impact:
         return x, u, f, df
 
 
+#: Duration of the canonical Hertz rise (x'' = −x^{3/2}, x(0) = 0, x'(0) = 1) to its peak
+#: (5/4)^{2/5}: half the elastic contact time in δ*/v0 units.
+_HALF = 0.5 * HERTZ_TC_CONSTANT * 1.25**0.4
+
+
+def _stretch(r):
+    """The plastic stretch of the impact at r = v_y/v0 (array, clipped to (0, 1]): x_y,
+    the slope k, the oscillation's amplitude A and phase θ (ξ = x − x_y + (2/3)x_y =
+    A·cos(√k·s − θ) from the yield point), and the largest approach x_m = x_y/3 + A."""
+    r = np.clip(np.asarray(r, dtype=float), 1e-300, 1.0)
+    xy = (1.25 * r * r) ** 0.4  # ½r² = (2/5)x_y^{5/2}
+    k = 1.5 * np.sqrt(xy)
+    xi0 = 2.0 / 3.0 * xy  # F_y/k
+    uy2 = np.maximum(1.0 - r * r, 0.0)  # the rate at the yield point, squared
+    A = np.sqrt(xi0 * xi0 + uy2 / k)
+    return xy, k, A, np.arctan2(np.sqrt(uy2 / k), xi0), xy / 3.0 + A
+
+
 def _impact(r) -> _Impact:
     """The dimensionless Thornton impact at r = v_y/v0 (array, clipped to (0, 1])."""
     from scipy import special  # loaded on first use
 
-    r = np.clip(np.asarray(r, dtype=float), 1e-300, 1.0)
-    xy = (1.25 * r * r) ** 0.4
-    k = 1.5 * np.sqrt(xy)
-    xi0 = 2.0 / 3.0 * xy  # F_y/k
-    uy2 = np.maximum(1.0 - r * r, 0.0)
-    A = np.sqrt(xi0 * xi0 + uy2 / k)
-    theta = np.arctan2(np.sqrt(uy2 / k), xi0)
-    xm = xy - xi0 + A
+    xy, k, A, theta, xm = _stretch(r)
     fm, rho, xp = _unloading(xm, xy, 1.0)
     zm = xm - xp
     e = np.sqrt(0.8 * rho) * zm**1.25
-    half = 0.5 * HERTZ_TC_CONSTANT * (5.0 / 4.0) ** 0.4
-    tau_y = half * special.betainc(0.4, 0.5, r * r)
+    tau_y = _HALF * special.betainc(0.4, 0.5, np.clip(np.asarray(r, dtype=float), 0.0, 1.0) ** 2)
     L = (e * e / rho) ** 0.4
-    return _Impact(xy, k, A, theta, xm, fm, rho, zm, e, tau_y, theta / np.sqrt(k), half * L / e)
+    return _Impact(xy, k, A, theta, xm, fm, rho, zm, e, tau_y, theta / np.sqrt(k), _HALF * L / e)
 
 
 @functools.cache
@@ -442,8 +451,7 @@ def _hertz_rise(s):
     interpolation of :func:`_rise_table` (values and rates; ~1e-13 of δ*)."""
     x, u = _rise_table()
     n = x.size - 1
-    half = 0.5 * HERTZ_TC_CONSTANT * (5.0 / 4.0) ** 0.4
-    h = half / n
+    h = _HALF / n
     p = np.asarray(s, dtype=float) * n
     i = np.clip(np.floor(p).astype(np.intp), 0, n - 1)
     t = p - i
@@ -456,16 +464,6 @@ def _hertz_rise(s):
     return xs, us
 
 
-def _x_max(r):
-    """Largest dimensionless approach of the impact at r (array; elastic (5/4)^{2/5} for
-    r ≥ 1)."""
-    r = np.clip(np.asarray(r, dtype=float), 1e-300, 1.0)
-    xy = (1.25 * r * r) ** 0.4
-    k = 1.5 * np.sqrt(xy)
-    xi0 = 2.0 / 3.0 * xy
-    return xy - xi0 + np.sqrt(xi0 * xi0 + np.maximum(1.0 - r * r, 0.0) / k)
-
-
 def _law_force(delta, delta_dot, r, K, m_eff, v0, clip=True):
     """The law in :class:`~pipeline.contact.NormalLaw`'s signature for one impact from
     approach speed v0 at δ = 0: r = v_y/v0, the largest approach that impact's own
@@ -474,7 +472,7 @@ def _law_force(delta, delta_dot, r, K, m_eff, v0, clip=True):
     K, m_eff, v0 = (np.asarray(a, dtype=float) for a in (K, m_eff, v0))
     dstar = (m_eff * v0 * v0 / K) ** 0.4
     dy = dstar * (1.25 * r * r) ** 0.4
-    dm = dstar * _x_max(r)
+    dm = dstar * _stretch(r)[4]  # the impact's largest approach ((5/4)^{2/5}·δ* for r ≥ 1)
     d = np.asarray(delta, dtype=float)
     dm = np.where(np.asarray(delta_dot) >= 0, d, dm)
     return _force(d, dm, dy, K, clip=clip)
