@@ -13,6 +13,8 @@ at p_y = 1 GPa, and the record (simulated, then seen through a sensor) is fitted
 the default Hunt–Crossley law, then with Thornton's.
 """
 
+import warnings
+
 from pipeline import Scene, advise, contact, fit_contact
 from pipeline.sensor_model import to_sensor
 from pipeline.simulate import impact
@@ -27,11 +29,15 @@ print(f"v_y = {v_y:.4f} m/s: the impact is {scene.v_n0 / v_y:.1f}× past it, e =
 record = to_sensor(impact(scene, "thornton", "none", param=v_y / scene.v_n0), noise=0.3, seed=1)
 
 # %%
-# The default law cannot follow the pulse: the verdict names the normal law, and the
-# impulse, which says e by itself, contradicts the e the fit reports.
+# The default law cannot follow the pulse: the verdict names the normal law, each cause
+# with its own warning, and the impulse, which says e by itself, contradicts the e the fit
+# reports.
 
 told = scene.replace(mu=None)
-default = fit_contact(record, told, tangential="none", n_boot=0)
+with warnings.catch_warnings(record=True) as caught:
+    warnings.simplefilter("always")
+    default = fit_contact(record, told, tangential="none", n_boot=0)
+print(sorted({w.category.__name__ for w in caught}))
 print(default.verdict["causes"])
 print({law: round(row["weight"], 3) for law, row in default.alternatives.items()})
 print(f"e fitted {default.values['e']:.3f}, the impulse says "
