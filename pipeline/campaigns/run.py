@@ -51,7 +51,7 @@ def local_cluster(workers: int):
             n_workers=int(workers),
             threads_per_worker=1,
             processes=True,
-            dashboard_address=None,
+            dashboard_address=":0",  # a free port: never the warning that 8787 is taken
         )
 
 
