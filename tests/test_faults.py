@@ -648,6 +648,28 @@ def test_standard_output_on_a_full_disk(tmp_path):
         assert both.returncode == 4
 
 
+@pytest.mark.parametrize(
+    ("error", "status", "line"),
+    [
+        (errno.ENOSPC, 4, "the disk is full: cannot write /run/k.json (No space left on device)"),
+        (errno.EIO, 6, "the disk failed (input/output error): cannot use /run/k.json "),
+        (errno.ENOENT, 2, "[Errno 2] No such file or directory: '/run/k.json'"),
+    ],
+)
+def test_a_fault_outside_the_outputs_is_one_line(monkeypatch, capsys, error, status, line):
+    """An OSError that no writer of ours met (a library's own file, such as a Jupyter
+    kernel's connection file): a full disk or a failed device by its status, anything else
+    as bad input — one line each."""
+    import pipeline.export as export
+
+    def fails(*a, **k):
+        raise OSError(error, os.strerror(error), "/run/k.json")
+
+    monkeypatch.setattr(export, "contact_from", fails)
+    assert main(["export", str(SAMPLES / "gr_45deg_0.6ms.json"), "--to", "lammps"]) == status
+    assert one_line(capsys.readouterr().err).startswith(f"error: {line}")
+
+
 def test_ctrl_c_is_one_line(monkeypatch, capsys):
     import pipeline.export as export
 

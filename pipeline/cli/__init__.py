@@ -72,7 +72,10 @@ def _run(args) -> int:
     except InputError as exc:
         return _fail(exc, EXIT_BAD_INPUT)
     except OSError as exc:  # not an output's: a library's own file, or an input
-        fault = OutputError(exc.errno, exc.strerror or str(exc), exc.filename or "a file")
+        action = "cannot use" if exc.errno == errno.EIO else "cannot write"  # a read, maybe
+        fault = OutputError(
+            exc.errno, exc.strerror or str(exc), exc.filename or "a file", action=action
+        )
         if fault.fault == "unwritable" and exc.errno != errno.EROFS:
             return _fail(exc, EXIT_BAD_INPUT)  # a missing or unreadable input, most likely
         return _fail(fault, EXIT_FAULT[fault.fault])
