@@ -96,9 +96,15 @@ def _fail(message, status: int) -> int:
     try:
         print(f"error: {_one_line(str(message))}", file=sys.stderr, flush=True)
     except OSError:  # stderr itself full or gone: the status says it (and nothing at exit)
-        with contextlib.suppress(OSError, ValueError), open(os.devnull, "w") as null:
-            os.dup2(null.fileno(), sys.stderr.fileno())
+        _to_devnull(sys.stderr)
     return status
+
+
+def _to_devnull(stream) -> None:
+    """Point ``stream``'s file descriptor at the null device: what it still holds is
+    dropped, not written again (and failed again) when the interpreter exits."""
+    with contextlib.suppress(OSError, ValueError), open(os.devnull, "w") as null:
+        os.dup2(null.fileno(), stream.fileno())
 
 
 class _Stdout:
@@ -120,8 +126,7 @@ class _Stdout:
         try:
             return fn(*args)
         except OSError as exc:
-            with contextlib.suppress(OSError, ValueError), open(os.devnull, "w") as null:
-                os.dup2(null.fileno(), self._stream.fileno())
+            _to_devnull(self._stream)
             if exc.errno == errno.EPIPE:
                 return None
             raise OutputError(exc.errno, exc.strerror, "the standard output") from exc
