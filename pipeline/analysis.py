@@ -32,6 +32,7 @@ from . import rigid as _rigid
 from . import score as _score
 from . import smooth as _smooth
 from . import window as _window
+from ._format import pdg, plain
 from ._json import json_ready
 from .errors import InputError
 from .fit import select_model
@@ -274,6 +275,8 @@ class Analysis:
         """A readable summary for a person: the record, the scene and where its μ and e
         came from, the measured outcomes with their bootstrap std beside the rigid
         prediction, the regime and the deviation score (what ``pipeline analyse`` prints).
+        A value with its std is rounded to it (the Particle Data Group's rule,
+        :mod:`pipeline._format`); every digit is in :meth:`summary`.
         """
         sc, rs, o = self.scene, self.rigid, self.outcomes
         src = self.record.attrs.get("source", "record")
@@ -300,9 +303,8 @@ class Analysis:
         names = {"e_n": "e_n [-]", "e_t": "e_t [-]", "omega": "ω [rad/s]"}
         names["rebound_deg"] = "rebound [deg]"
         for k, label in names.items():
-            v, s = o.values[k], o.std[k]
-            pm = f"{v:.4g} ± {s:.2g}" if np.isfinite(s) else f"{v:.4g}"
-            lines.append(f"{label:14s}{pm:>22s}{rigid[k]:>12.4g}")
+            pm = pdg(o.values[k], o.std[k])
+            lines.append(f"{label:14s}{pm:>22s}{plain(rigid[k]):>12s}")
         lines.append("")
         lines.append(
             f"deviation from the rigid line ({self.score.source} percussions, "
@@ -312,7 +314,7 @@ class Analysis:
             parts = []
             for m in ("area", "max_distance"):
                 v, s = self.score.values[phase][m], self.score.std[phase][m]
-                parts.append(f"{m} {v:.3f}" + (f" ± {s:.3f}" if np.isfinite(s) else ""))
+                parts.append(f"{m} {pdg(v, s) if np.isfinite(s) else f'{v:.3f}'}")
             lines.append(f"  {phase:12s}" + ", ".join(parts))
         return "\n".join(lines)
 

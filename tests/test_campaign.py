@@ -400,6 +400,11 @@ def test_campaign_figures_plot_the_data_and_name_the_campaign(result):
     }
     for fig in figs.values():
         assert "5 of 9 records (4 failed)" in fig._suptitle.get_text()
+    # inside their canvas as drawn (tests/test_figures.py, issue 21)
+    from _canvas import outside_canvas
+
+    out = {name: outside_canvas(fig) for name, fig in figs.items()}
+    assert not {k: v for k, v in out.items() if v}, out
     fig = figs["campaign_outcomes.png"]
     pts = [
         a

@@ -8,6 +8,7 @@ Figs. 4 and 6.
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import matplotlib
 import numpy as np
@@ -291,3 +292,57 @@ def test_fig8_legend_clear_of_the_data(sticking_analysis):
     for ax in fig.axes:
         assert not leg.get_window_extent(r).overlaps(ax.get_window_extent(r))
     assert "[N]" in fig.axes[0].get_ylabel() and "[$\\mu$s]" in fig.axes[1].get_xlabel()
+
+
+# ------------------------------------------------------------------ inside the canvas
+@pytest.fixture(scope="module")
+def record_figures(tmp_path_factory, sticking_analysis):
+    """Every figure of a record the project draws (seed Figs. 8 and 9, the contact fit), for
+    a sticking and a sliding sample and for a record whose name is long."""
+    import shutil
+    import warnings
+
+    from pipeline import analyse, fit_contact
+    from pipeline.figures import fig8_forces, fig9_percussion_plane, fig_contact_fit
+    from pipeline.report import load_sample, scene_from_sidecar
+
+    samples = Path(__file__).resolve().parents[1] / "data_samples"
+    long = tmp_path_factory.mktemp("long") / ("a_record_named_by_its_rig_and_date_" * 2 + ".csv")
+    shutil.copy(samples / "gr_15deg_0.6ms.csv", long)
+    cases = {
+        "15deg": (load_sample(samples / "gr_15deg_0.6ms.csv"), "gr_15deg_0.6ms.csv"),
+        "45deg": (load_sample(samples / "gr_45deg_0.3ms.csv"), "gr_45deg_0.3ms.csv"),
+        "long name": (load_sample(long), "gr_15deg_0.6ms.csv"),
+    }
+    figs = {"fig9 sticking Coulomb": fig9_percussion_plane(sticking_analysis)}
+    for case, (rec, sidecar) in cases.items():
+        scene = scene_from_sidecar(samples / sidecar)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            a = analyse(rec, scene, n_boot=0)
+            fit = fit_contact(rec, scene.replace(mu=None), n_boot=0)
+        figs[f"fig8 {case}"] = fig8_forces(a)
+        figs[f"fig9 {case}"] = fig9_percussion_plane(a)
+        figs[f"fit {case}"] = fig_contact_fit(fit)
+    return figs
+
+
+def test_every_figure_lies_inside_its_canvas(record_figures):
+    """Titles, labels and legends inside the canvas at the size each figure is drawn, in
+    its first draw: the reports show figures as drawn (no tight crop), so anything outside
+    is cut there (issue 21: the seed's Fig. 9 lost the start of its title and the end of
+    its legend). The campaign's figures: tests/test_campaign.py."""
+    from _canvas import outside_canvas
+
+    d = default_scenes()
+    figs = {
+        **record_figures,
+        "fig4": fig4_percussion_plane(),
+        "fig4 two panels": fig4_percussion_plane(
+            d["fig4_sliding"], d["fig4_sticking"].replace(angle_deg=40.0)
+        ),
+        "fig6": fig6_disc_velocity(),
+        "fig6 spin": fig6_disc_velocity(d["fig6"].replace(spin=-20.0)),
+    }
+    out = {name: outside_canvas(fig) for name, fig in figs.items()}
+    assert not {k: v for k, v in out.items() if v}, out

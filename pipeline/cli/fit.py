@@ -33,7 +33,11 @@ def register(sub) -> None:
     )
     p.add_argument("--boot", default=200, type=int, help="block-bootstrap replicates")
     p.add_argument("--seed", default=0, type=int)
-    p.add_argument("--out", type=Path, help="write fit.json, fit.txt and fit.png there")
+    p.add_argument(
+        "--out",
+        type=Path,
+        help="write fit.json (the summary), fit.txt (the full report, every digit) and fit.png",
+    )
     p.add_argument("--json", action="store_true", help="print the strict-JSON summary")
     add_record_options(p)
     p.set_defaults(func=run)
@@ -82,13 +86,38 @@ def run(args) -> int:
             )
             head = ""
             summary = fit.summary()
-    text = head + fit.report()
     if args.out is not None:  # the three files go in together (the previous stay on a fault)
         from .. import figures  # matplotlib: only where a figure is drawn
 
         with atomic_files(args.out):
             atomic_write_text(args.out / "fit.json", json.dumps(summary, indent=1, allow_nan=False))
-            atomic_write_text(args.out / "fit.txt", text + "\n")
+            atomic_write_text(args.out / "fit.txt", head + fit.report() + "\n")
             figures.save(figures.fig_contact_fit(fit), args.out / "fit.png")
-    print(json.dumps(summary, indent=1, allow_nan=False) if args.json else text)
+    if args.json:
+        print(json.dumps(summary, indent=1, allow_nan=False))
+    else:
+        print(_readable(fit, sel.averaged if args.model == "auto" else None, head))
     return 0
+
+
+def _readable(fit, averaged=None, head="") -> str:
+    """The fit for a person: what was fitted, the verdict in words, the parameters rounded
+    to their uncertainty with the budget's shares, what they imply, the notes; every digit
+    is in --json and in --out's fit.txt."""
+    import textwrap
+
+    from .._format import as_text, plain_quantities
+
+    lines = [
+        f"Contact fit of {fit.data.record.attrs.get('source', 'the record')} "
+        f"({fit.n_data} samples)",
+    ]
+    if head:
+        lines += ["", head.rstrip()]  # the candidates and the selection's rule
+    lines += ["", as_text(fit.table() if averaged is None else averaged.table())]
+    if fit.physics:
+        lines += ["", *textwrap.wrap("implied: " + plain_quantities(fit.physics), 100)]
+    if fit.notes:
+        lines += ["", "notes:"] + [f"- {n}" for n in fit.notes]
+    lines += ["", "(every digit: --json, or fit.txt and fit.json with --out)"]
+    return "\n".join(lines)

@@ -4,15 +4,18 @@ deviation score against incidence and speed; :func:`campaign_figures` draws them
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from matplotlib.figure import Figure
 
+from .._format import rounded
 from ..contact import cor_hunt_crossley_alpha
 from ..rigid import sphere_on_plane
 from ..scene import Scene
 from ..score import NEAR_ZERO
 from ..simulate import impact_outcomes
-from .style import COLORS, DOUBLE, SINGLE, new_figure, panel_label, style
+from .style import COLORS, DOUBLE, SINGLE, fitting_text, new_figure, panel_label, style
 
 __all__ = [
     "campaign_outcomes",
@@ -42,11 +45,15 @@ def _campaign_title(fig, ds, what: str) -> None:
     n = int(ds.sizes["record"])
     import textwrap
 
-    label = textwrap.shorten(str(ds.attrs.get("source", "campaign")), 60, placeholder=" …")
-    fig.suptitle(
-        f"{what} — {label}: {ok} of {n} records" + (f" ({n - ok} failed)" if ok < n else ""),
-        fontsize=8,
-    )
+    label = full = textwrap.shorten(str(ds.attrs.get("source", "campaign")), 60, placeholder=" …")
+    counts = f"{ok} of {n} records" + (f" ({n - ok} failed)" if ok < n else "")
+    text = f"{what} — {label}: {counts}"
+    width = fig.get_figwidth() * 0.95
+    if fitting_text(text, width, 8) != text:  # too long for one line: the campaign below
+        while label and fitting_text(f"{label} …: {counts}", width, 8).count("\n"):
+            label = label[:-1]  # the campaign's name shortened, its counts whole
+        text = f"{what}\n{label}{' …' * (label != full)}: {counts}"
+    fig.suptitle(text, fontsize=8)
 
 
 def _speed_groups(ds):
@@ -204,7 +211,7 @@ def campaign_friction(ds) -> Figure:
     """
     tr = _trends(ds).get("friction", {})
     with style():
-        fig, ax = new_figure(width=SINGLE, height=2.6)
+        fig, ax = new_figure(width=SINGLE, height=3.0)
         ok = (ds["status"] == "ok").values
         x, y = ds["v_t0"].values[ok], ds["mu_record"].values[ok]
         ax.plot(x, y, "o", mfc="none", color=COLORS["measured"], gid="measured-mu", label="records")
@@ -218,9 +225,10 @@ def campaign_friction(ds) -> Figure:
                     "-",
                     color=COLORS["fit"],
                     gid="law-linear",
-                    label=rf"$\mu = {a:.3f} + {b:.3f}\,v_{{t0}}$ [s/m]",
+                    label="fit to the records: " + _law_text(tr, "mu_a", "mu_b"),
                 )
-            jv = _joint(ds).get("values", {})
+            joint = _joint(ds)
+            jv, js = joint.get("values", {}), joint.get("stderr", {})
             if "mu_a" in jv and "mu_b" in jv:
                 ax.plot(
                     xx,
@@ -228,8 +236,8 @@ def campaign_friction(ds) -> Figure:
                     "--",
                     color=COLORS["sticking"],
                     gid="law-joint",
-                    label=rf"joint fit of the forces: ${jv['mu_a']:.3f} + {jv['mu_b']:.3f}"
-                    r"\,v_{t0}$",
+                    label="joint fit of the forces: "
+                    + _law_text({**jv, **{f"{k}_std": v for k, v in js.items()}}, "mu_a", "mu_b"),
                 )
             c = tr.get("mu_const")
             if c is not None:
@@ -238,14 +246,22 @@ def campaign_friction(ds) -> Figure:
                     ls=":",
                     color=COLORS["construction"],
                     gid="law-constant",
-                    label=rf"$\mu = {c:.3f}$",
+                    label=rf"constant: $\mu = {rounded(c, tr.get('mu_const_std', math.nan))}$",
                 )
         ax.set_xlabel(r"initial tangential speed $v_{t0}$ [m/s]")
         ax.set_ylabel(r"$\mu$ from the record [-]")
         ax.set_xlim(left=0.0)
-        fig.legend(loc="outside lower center", ncols=2, fontsize=6.5)
+        fig.legend(loc="outside lower center", ncols=1, fontsize=6.5)
         _campaign_title(fig, ds, "Friction")
         return fig
+
+
+def _law_text(values: dict, a: str, b: str) -> str:
+    """``$μ = a + b s/m·v_t0$`` (mathtext) with each coefficient rounded to its uncertainty
+    (the ``<name>_std`` beside it in ``values``)."""
+    ra = rounded(values[a], values.get(f"{a}_std") or math.nan)
+    rb = rounded(values[b], values.get(f"{b}_std") or math.nan)
+    return rf"$\mu = {ra} + {rb}\,\mathrm{{s/m}}\cdot v_{{t0}}$"
 
 
 def campaign_restitution(ds) -> Figure:
@@ -284,7 +300,7 @@ def campaign_restitution(ds) -> Figure:
                 ":",
                 color=COLORS["sliding"],
                 gid="law-constant_e",
-                label=f"e constant = {tr['e_const']:.4f}"
+                label=f"e constant = {rounded(tr['e_const'], tr.get('e_const_std', math.nan))}"
                 + (" (preferred)" if pref == "constant_e" else ""),
             )
             ax.plot(
@@ -293,7 +309,8 @@ def campaign_restitution(ds) -> Figure:
                 "-",
                 color=COLORS["sticking"],
                 gid="law-constant_alpha",
-                label=rf"$\alpha$ constant = {tr['alpha']:.4f} s/m"
+                label=r"$\alpha$ constant = "
+                + f"{rounded(tr['alpha'], tr.get('alpha_std', math.nan))} s/m"
                 + (" (preferred)" if pref == "constant_alpha" else ""),
             )
         ax.set_xlabel(r"approach speed $v_{n0}$ [m/s]")
@@ -336,7 +353,7 @@ def campaign_score(ds) -> Figure:
             )
         ax.axhline(NEAR_ZERO, ls=":", color=COLORS["construction"], gid="near-zero")
         ax.set_xlabel(r"incidence $\alpha$ [deg]")
-        ax.set_ylabel("max. distance from rigid line [-]")
+        ax.set_ylabel("max. distance from\nthe rigid line [-]")
         ax.set_ylim(bottom=0.0)
         fig.legend(loc="outside lower center", ncols=2, fontsize=6.5)
         _campaign_title(fig, ds, "Deviation from rigid theory")

@@ -100,21 +100,43 @@ def fig_contact_fit(fit) -> Figure:
         ax.set_ylabel("force [N]")
         axr.set_ylabel(r"residual [$\sigma$]")
         axr.set_xlabel(r"time from fitted onset $t_0$ [$\mu$s]")
-        title = f"{fit.normal or 'rigid'} + {fit.tangential}"
-        v = fit.values
-        parts = [f"$E^*$ = {v['E_eff'] / 1e9:.4g} GPa"] if "E_eff" in fit.vary else []
-        ops = {**dict.fromkeys(fit.lower_only, r"\geq"), **dict.fromkeys(fit.upper_only, r"\leq")}
-        for name, tex in (("e", "e"), ("mu", r"\mu"), ("kt_scale", r"k_t/k_{Mindlin}")):
-            if name in fit.vary:
-                op = ops.get(name, "=")
-                parts.append(f"${tex}$ {op} {v[name]:.4g}".replace(f"$ {op}", f" {op}$"))
         fig.legend(
             loc="outside upper center",
             ncols=2,
             fontsize=7,
-            title=f"{title}\n" + ", ".join(parts) + f", $\\chi^2_\\nu$ = {fit.redchi:.3g}",
+            title=_legend_title(fit),
             title_fontsize=7,
         )
         panel_label(ax, "(a)")
         panel_label(axr, "(b)")
         return fig
+
+
+#: The parameters' symbols in the figure (mathtext).
+_TEX = {
+    "E_eff": "$E^*$",
+    "e": "$e$",
+    "mu": r"$\mu$",
+    "kt_scale": r"$k_t/k_M$",
+    "alpha": r"$\alpha$",
+}
+
+
+def _legend_title(fit) -> str:
+    """The model, χ²_ν and the fitted parameters as the fit's table rounds them (two to a
+    line: the figure is one column wide)."""
+    from .._format import model_words, plain
+
+    model = f"{model_words(fit.normal)} + {model_words(fit.tangential)}"
+    table = fit.table()
+    parts = []
+    for name, row in table.iterrows():
+        value = row["value"].removesuffix(" (no uncertainty)")
+        op = "" if value[:1] in "≥≤" else "= "
+        parts.append(
+            f"{_TEX.get(name, row['quantity'])} {op}{value}"
+            + (f" {row['unit']}" if row["unit"] else "")
+        )
+    lines = [f"{model}: $\\chi^2_\\nu$ = {plain(fit.redchi, 3)}"]
+    lines += [", ".join(parts[i : i + 2]) for i in range(0, len(parts), 2)]
+    return "\n".join(lines)

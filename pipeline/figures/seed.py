@@ -22,7 +22,7 @@ from ..errors import InputError
 from ..record import channel
 from ..rigid import SphereOnPlane, sphere_on_plane
 from ..scene import Scene
-from .style import COLORS, DOUBLE, SINGLE, new_figure, panel_label, style
+from .style import COLORS, DOUBLE, SINGLE, fitting_text, new_figure, panel_label, style
 
 __all__ = [
     "default_scenes",
@@ -97,8 +97,14 @@ def _draw_plane(ax, results, names, colors, limits=None, seed_labels=True):
     ax.plot([0, x_hi], [Pn_c, Pn_c], ls="--", lw=0.9, color=grey, gid="line-C")
     ax.plot([0, x_hi], [Pn_f, Pn_f], ls="-", lw=0.9, color=grey, gid="line-T")
     ax.plot([Pt_S, Pt_S], [0, y_hi], ls="-", lw=0.9, color=grey, gid="line-S")
-    ax.text(0.98 * x_hi, Pn_c, "(C)", va="bottom", ha="right", color=grey)
-    ax.text(0.98 * x_hi, Pn_f, "(T)", va="bottom", ha="right", color=grey)
+    for y, name in ((Pn_c, "(C)"), (Pn_f, "(T)")):
+        # at the right end of its line, or left of a friction ray that crosses it there
+        x = 0.98 * x_hi
+        for res in results:
+            cross = float(res.mu) * y
+            if 0.7 * x_hi < cross < x_hi:
+                x = min(x, cross - 0.03 * x_hi)
+        ax.text(x, y, name, va="bottom", ha="right", color=grey)
     # (S) at the top of its line, unless a friction ray crosses S there (steep LF with a
     # small sticking abscissa): then right of S between C and T, where only the β ray runs
     y_s = 0.985 * y_hi
@@ -276,11 +282,11 @@ def fig4_percussion_plane(scene_sliding: Scene = None, scene_sticking: Scene = N
     )
     with style():
         if _same_construction(*results):
-            fig, ax = new_figure(width=SINGLE, height=4.0)
+            fig, ax = new_figure(width=SINGLE, height=4.0, layout="compressed")
             _draw_plane(ax, results, names, colors, seed_labels=seed_labels)
             _sketch_ball_on_plane(ax, math.radians(float(scene_sliding.angle_deg)))
         else:
-            fig, axes = new_figure(1, 2, width=DOUBLE, height=4.0)
+            fig, axes = new_figure(1, 2, width=DOUBLE, height=4.0, layout="compressed")
             scenes = (scene_sliding, scene_sticking)
             for ax, res, scene, name, col, tag in zip(
                 axes, results, scenes, names, colors, ("(a)", "(b)"), strict=True
@@ -465,7 +471,7 @@ def fig6_disc_velocity(scene: Scene = None, surface_speeds=None) -> Figure:
         ax.set_xlim(lo, hi)
         ax.set_ylim(y_lo, y_hi)
         ax.set_xlabel(r"surface speed of the disc under the ball $u$ [m/s]")
-        ax.set_ylabel(r"post-impact horizontal velocity $v_x''$ [m/s]")
+        ax.set_ylabel(r"velocity after impact $v_x''$ [m/s]")
         return fig
 
 
@@ -479,7 +485,9 @@ def _name_record(ax, analysis) -> None:
     """Name the record a figure shows (file name and impact) in the top axes' title."""
     sc = analysis.scene
     src = analysis.record.attrs.get("source", "record")
-    ax.set_title(f"{src}: {sc.speed:g} m/s at {sc.angle_deg:g}°", fontsize=7, loc="right")
+    width = ax.figure.get_figwidth() * 0.8
+    title = fitting_text(f"{src}: {sc.speed:g} m/s at {sc.angle_deg:g}°", width, 7)
+    ax.set_title(title, fontsize=7, loc="right")
 
 
 def fig8_forces(analysis) -> Figure:
@@ -607,7 +615,7 @@ def fig9_percussion_plane(analysis) -> Figure:
             lw=3.2,  # wider than the measured curve, which may lie right on it (Coulomb)
             color=COLORS["rigid"],
             gid="rigid-line",
-            label="rigid body hypothesis",
+            label="rigid body (Routh)",
             solid_joinstyle="miter",
         )
         ax.plot(v[-1, 0], v[-1, 1], "o", ms=4, color=COLORS["rigid"])
@@ -651,7 +659,7 @@ def fig9_percussion_plane(analysis) -> Figure:
                 lw=1.6,
                 color=color,
                 gid=f"measured-{phase}",
-                label=f"deformable body (measured): {phase}",
+                label=f"measured: {phase}",
             )
         ax.plot(
             perc.Pt_fit * k,
@@ -660,7 +668,7 @@ def fig9_percussion_plane(analysis) -> Figure:
             lw=1.1,
             color=COLORS["fit"],
             gid="measured-fit",
-            label=f"degree-{a.fits.Ft.degree} fit (seed's method)",
+            label=f"degree-{a.fits.Ft.degree} fit (seed's)",
         )
         i = int(np.argmax(Pt))
         ax.plot(
@@ -672,7 +680,7 @@ def fig9_percussion_plane(analysis) -> Figure:
             gid="Pt-max",
             zorder=6,
             ls="none",
-            label=r"maximum of the measured $P_t$",  # in the legend: no text on the curves
+            label=r"maximum of measured $P_t$",  # in the legend: no text on the curves
         )
         ax.set_xlim(0, x_hi)
         ax.set_ylim(0, y_hi)
@@ -680,9 +688,9 @@ def fig9_percussion_plane(analysis) -> Figure:
         ax.set_ylabel(r"normal percussion $P_n$ [mN$\cdot$s]")
         fig.legend(loc="outside lower center", ncols=2, fontsize=6.5)
         sc = a.rigid_scene  # the μ and e the broken line was drawn with
-        ax.set_title(
-            f"{a.record.attrs.get('source', 'record')}: {sc.angle_deg:g}°, {sc.speed:g} m/s, "
-            f"μ = {sc.mu:.3g}, e = {sc.e:.3g}: {rig.regime} (rigid)",
-            fontsize=8,
+        title = (  # two lines at least: a record's name may be long, the figure is narrow
+            f"{a.record.attrs.get('source', 'record')}: {sc.angle_deg:g}°, {sc.speed:g} m/s\n"
+            f"rigid with μ = {sc.mu:.3g}, e = {sc.e:.3g}: {rig.regime}"
         )
+        ax.set_title(fitting_text(title, fig.get_figwidth() * 0.8, 8), fontsize=8)
         return fig

@@ -12,7 +12,17 @@ from matplotlib.figure import Figure
 
 from .._atomic import atomic_write_bytes
 
-__all__ = ["STYLE", "SINGLE", "DOUBLE", "COLORS", "style", "new_figure", "save", "panel_label"]
+__all__ = [
+    "STYLE",
+    "SINGLE",
+    "DOUBLE",
+    "COLORS",
+    "style",
+    "new_figure",
+    "save",
+    "panel_label",
+    "fitting_text",
+]
 
 
 #: Figure widths [inch]: one journal column and the full page width.
@@ -64,14 +74,20 @@ def style():
         yield
 
 
-def new_figure(nrows=1, ncols=1, *, width=SINGLE, height=None, **subplots_kw):
+def new_figure(nrows=1, ncols=1, *, width=SINGLE, height=None, layout="constrained", **subplots_kw):
     """A constrained-layout :class:`~matplotlib.figure.Figure` and its axes, without pyplot.
+
+    Every figure lays itself out inside its canvas — titles, labels and legends included —
+    in its first draw, so it looks the same shown as drawn (a notebook, an HTML report) and
+    saved tightly (:func:`save`); ``tests/test_figures.py`` checks each one.
 
     Parameters
     ----------
     nrows, ncols : int — grid of axes
     width : float — figure width [inch]; :data:`SINGLE` or :data:`DOUBLE`
     height : float, optional — figure height [inch]; default width·0.8/ncols·nrows
+    layout : str — matplotlib's layout engine: ``"constrained"``, or ``"compressed"``
+        for axes of a fixed aspect (equal scales), which it lays out in one draw
     **subplots_kw — passed to :meth:`Figure.subplots` (``sharey=``, ``gridspec_kw=``...)
 
     Returns
@@ -80,7 +96,7 @@ def new_figure(nrows=1, ncols=1, *, width=SINGLE, height=None, **subplots_kw):
     """
     if height is None:
         height = width * 0.8 * nrows / ncols
-    fig = Figure(figsize=(width, height), layout="constrained")
+    fig = Figure(figsize=(width, height), layout=layout)
     axes = fig.subplots(nrows, ncols, squeeze=True, **subplots_kw)
     return fig, axes
 
@@ -98,6 +114,40 @@ def save(fig: Figure, path, **savefig_kw) -> Path:
         fig.savefig(buf, format=path.suffix.lstrip(".") or None, **savefig_kw)
     atomic_write_bytes(path, buf.getbuffer())
     return path
+
+
+def fitting_text(text: str, width: float, fontsize: float) -> str:
+    """``text`` broken into lines no wider than ``width`` [inch] at ``fontsize`` [pt] in the
+    current font (measured, not guessed): at spaces where it can, inside a word (a long
+    file name) where it must; each line of ``text`` kept on its own."""
+    from matplotlib.font_manager import FontProperties
+    from matplotlib.textpath import text_to_path
+
+    prop = FontProperties(size=fontsize)
+    room = width * 72.0
+
+    def fits(s):
+        return text_to_path.get_text_width_height_descent(s, prop, ismath=False)[0] <= room
+
+    out = []
+    for line in text.split("\n"):
+        current = ""
+        for word in line.split(" "):
+            trial = f"{current} {word}" if current else word
+            if fits(trial):
+                current = trial
+                continue
+            if current:
+                out.append(current)
+            while not fits(word) and len(word) > 1:  # a word wider than the line
+                k = len(word) - 1
+                while k > 1 and not fits(word[:k]):
+                    k -= 1
+                out.append(word[:k])
+                word = word[k:]
+            current = word
+        out.append(current)
+    return "\n".join(out)
 
 
 def panel_label(ax, text, *, x=-0.02, y=1.02):

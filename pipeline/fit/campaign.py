@@ -50,6 +50,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
+from .._format import plain
 from .._json import json_ready
 from ..contact import NORMAL_LAWS
 from ..errors import InputError, PipelineWarning, PoorFitWarning
@@ -291,6 +292,22 @@ class CampaignFit(FitResult):
         hyp = self.hypotheses or {(self.mu_law, self.damping): self}
         return min(hyp.values(), key=lambda f: f.aic)
 
+    def _verdict_words(self) -> tuple:
+        """(the verdict in a sentence, [the hypotheses compared]) (:meth:`table`)."""
+        text, details = super()._verdict_words()
+        hyp = _hypothesis_words(self.mu_law, self.damping)
+        text = f"Joint fit of {len(self.records)} records ({hyp}): " + text[0].lower() + text[1:]
+        if len(self.hypotheses) > 1:
+            df = self.compare()
+            best = df.iloc[0]
+            gap = f", ΔAIC = {plain(df['delta_aic'].iloc[1], 3)} to the next" if len(df) > 1 else ""
+            details = [
+                f"best hypothesis by AIC: {_hypothesis_words(best['mu_law'], best['damping'])}"
+                + gap,
+                *details,
+            ]
+        return text, details
+
     def report(self) -> str:
         lines = [
             f"Campaign fit of {len(self.records)} records: {self.model.name}, μ law "
@@ -342,6 +359,19 @@ class CampaignFit(FitResult):
             ds[k].attrs["units"] = units.get(k, "1")
         ds.attrs["summary_json"] = json.dumps(self.summary(), allow_nan=False)
         return ds
+
+
+#: The campaign's hypotheses in words (:meth:`CampaignFit.table`).
+_LAW_WORDS = {
+    "constant": "constant",
+    "linear_vt0": "= μ_a + μ_b·v_t0",
+    "constant_e": "e constant",
+    "constant_alpha": "α constant (e falls with speed)",
+}
+
+
+def _hypothesis_words(mu_law: str, damping: str) -> str:
+    return f"μ {_LAW_WORDS.get(mu_law, mu_law)}, {_LAW_WORDS.get(damping, damping)}"
 
 
 def _as_list(x, n, what):

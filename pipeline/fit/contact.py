@@ -62,6 +62,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import special
 
+from .._format import model_words
 from .._json import json_ready
 from ..contact import NORMAL_LAWS, calibrate_thornton, yield_pressure
 from ..errors import InputError, PipelineWarning
@@ -315,6 +316,36 @@ class ContactFit(FitResult):
         lines += ["", "lmfit report:", fit_report(self.params)]
         return "\n".join(lines)
 
+    def _verdict_words(self) -> tuple:
+        """(the verdict in a sentence, [each cause's message]) (:meth:`table`)."""
+        v = self.verdict
+        if v is None:
+            return super()._verdict_words()
+        model = f"{model_words(self.normal)} + {model_words(self.tangential)}"
+        redchi = self.misfit.redchi if self.misfit is not None else self.redchi
+        causes = list(v["causes"])
+        said = [_CAUSE_WORDS.get(c, model_words(c)) for c in causes]
+        if v["ok"]:
+            text = (
+                f"The model ({model}) describes the record: the residuals are at the noise "
+                f"level (χ²_ν = {redchi:.3g})"
+                + (f"; noted: {', '.join(said)}" if said else "")
+                + "."
+            )
+        else:
+            missed = [w for c, w in zip(causes, said, strict=True) if c != "coloured_noise"]
+            if self.misfit is not None and not self.misfit.ok:
+                missed += list(self.misfit.reasons)
+            text = (
+                f"The model ({model}) does not describe the record: "
+                + ("; ".join(missed) or "the misfit test fails")
+                + "."
+            )
+        messages = v.get("messages", {})
+        return text, [
+            f"{_CAUSE_WORDS.get(c, model_words(c))}: {messages[c]}" for c in causes if c in messages
+        ]
+
     def _systematics_lines(self) -> list:
         if not self.systematics:
             return ["  inputs taken as exact (systematics={})"]
@@ -470,6 +501,20 @@ def _yield_point(fit, level) -> dict:
         se = value * (hi - lo) / (2 * z) if math.isfinite(hi) else math.nan
         out[name] = (value, se, (math.exp(lo), math.exp(hi)))
     return out
+
+
+#: The verdict's causes in words (:meth:`ContactFit.table`; pipeline.fit.verdict).
+_CAUSE_WORDS = {
+    "normal_law": "another normal law fits decisively better",
+    "sensor_filter": "the sensor's filter is not as stated",
+    "crosstalk": "the force axes leak into each other (cross-talk)",
+    "coloured_noise": "the noise is coloured (modelled)",
+    "impulse_mismatch": "the model's impulse differs from the measured one",
+    "geometry": "the contact normal turns on the curved target",
+    "second_impact": "a second impact follows",
+    "sensor_dynamics": "the sensor's resonance or discharge shows in the record",
+    "spikes": "isolated spikes were left out",
+}
 
 
 def _unit(k):

@@ -124,6 +124,33 @@ class OutcomeFit:
                 out[k] = (-math.inf, math.inf)
         return out
 
+    def table(self, level: float = 0.95, *, style: bool = False):
+        """The fit for a person to read (as :meth:`pipeline.fit.result.FitResult.table`):
+        each parameter rounded to its standard error (PDG), a bound where the data bound it
+        on one side only, ``"fixed"`` where it was not fitted; the fit in words in
+        ``attrs["verdict"]``, the notes in ``attrs["details"]``."""
+        from .. import _format
+
+        ci = self.ci(level)
+        rows = []
+        for k, v in self.values.items():
+            row = {"name": k, "value": v, "stderr": self.stderr.get(k, math.nan), "ci": ci[k]}
+            if not self.params[k].vary:
+                row["status"] = "fixed"
+            elif not self.identifiable.get(k, True) and k in self.bounds:
+                lo, hi = self.bounds[k]
+                lower = math.isinf(hi) or hi >= _BOUNDS.get(k, (0.0, math.inf))[1]
+                row.update(status="lower" if lower else "upper", value=lo if lower else hi)
+            elif not self.identifiable.get(k, True):
+                row["stderr"] = math.nan
+            rows.append(row)
+        verdict = (
+            f"Rebound outcomes ({', '.join(self.columns)}) of {len(self.data)} impacts fitted "
+            f"by the {self.model!r} model: χ²_ν = {self.redchi:.3g}."
+        )
+        df = _format.parameter_table(rows, verdict=verdict, details=self.notes, level=level)
+        return _format.styled(df) if style else df
+
     def predict(self, angle_deg, speed=None):
         """The model's outcomes at incidences ``angle_deg`` [deg] (dict of arrays)."""
         return _predict(self.model, self.values, self.scene, np.asarray(angle_deg, float), speed)

@@ -22,11 +22,22 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import special
 
+from .. import _format
 from .._json import json_ready
 from .forward import SYSTEMATIC_PARAMS, UNITS
 from .uncertainty import normal_interval, one_sided_bound, percentile_interval
 
-__all__ = ["FitResult"]
+__all__ = ["FitResult", "kind_of"]
+
+
+def kind_of(name: str) -> str:
+    """What a fitted parameter is: ``"contact"`` (a physical one), ``"per record"`` (a
+    campaign's parameter of one record, ``kt_scale_3``) or ``"nuisance"`` (the onset, an
+    input known to a tolerance)."""
+    base, _, index = name.rpartition("_")
+    if name == "t0" or name in SYSTEMATIC_PARAMS:
+        return "nuisance"
+    return "per record" if index.isdigit() and base else "contact"
 
 
 @dataclass(frozen=True, eq=False)
@@ -288,6 +299,82 @@ class FitResult:
         return out
 
     # ------------------------------------------------------------ text
+    def table(self, level: float = 0.95, *, nuisance: bool = False, style: bool = False):
+        """The fit for a person to read: the verdict in words, the parameters rounded to
+        their uncertainty in the units a person uses, the budget as shares.
+
+        Parameters
+        ----------
+        level : float — level of the intervals shown
+        nuisance : bool — also show the parameters fitted alongside (the onset t0, the
+            inputs known to a tolerance, a campaign's per-record ones), after the
+            physical ones; default only the physical parameters
+        style : bool — return a pandas Styler (the verdict its caption) for HTML
+
+        Returns
+        -------
+        pandas.DataFrame (or its Styler)
+            One row per parameter (:func:`pipeline._format.parameter_table`): ``value``
+            is value ± the combined standard uncertainty (the budget's ``total``) rounded
+            by the Particle Data Group's rule, a bound (``≥ 0.131``) where the data bound
+            the parameter on one side only; the interval at ``level`` (:meth:`ci`), and
+            each budget term's share of the total variance [%]. ``attrs["verdict"]``
+            states the verdict in a sentence, ``attrs["details"]`` what stands behind it.
+            Every digit stays in :meth:`summary`.
+        """
+        budget = self.budget
+        ci, se = self.ci(level), self.stderr
+        rows = []
+        for n in self.vary:
+            kind = kind_of(n)
+            if kind != "contact" and not nuisance:
+                continue
+            status = "fitted"
+            if n in self.lower_only:
+                status = "lower"
+            elif n in self.upper_only:
+                status = "upper"
+            s = budget[n]["total"] if n in budget else se[n]
+            rows.append(
+                {
+                    "name": n,
+                    "value": self.values[n],
+                    "stderr": s,
+                    "ci": ci[n],
+                    "status": status,
+                    "kind": kind,
+                }
+            )
+        rows.sort(key=lambda r: r["kind"] != "contact")  # the physical parameters first
+        verdict, details = self._verdict_words()
+        df = _format.parameter_table(
+            rows,
+            {r["name"]: budget[r["name"]] for r in rows if r["name"] in budget},
+            verdict=verdict,
+            details=details,
+            level=level,
+        )
+        return _format.styled(df) if style else df
+
+    def _verdict_words(self) -> tuple:
+        """(the verdict in a sentence, [what stands behind it]) from the misfit test."""
+        m = self.misfit
+        if m is None:
+            if self.poor:
+                return (
+                    f"The model does not describe the data: the residuals show structure it "
+                    f"misses (χ²_ν = {self.redchi:.3g}).",
+                    [],
+                )
+            return f"The fit's residuals: χ²_ν = {self.redchi:.3g}.", []
+        if m.ok:
+            return (
+                f"The model describes the data: the residuals are at the noise level "
+                f"(χ²_ν = {m.redchi:.3g}).",
+                [],
+            )
+        return "The model does not describe the data: " + "; ".join(m.reasons) + ".", []
+
     def _budget_lines(self) -> list:
         """The uncertainty budget as a table: one row per parameter, one column per term."""
         budget = self.budget

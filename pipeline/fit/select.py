@@ -58,10 +58,12 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import special
 
+from .._format import model_words
 from .._json import json_ready
 from ..errors import InputError, PipelineWarning
 from .contact import DEFAULT_VARY, ContactFit, fit_contact, fit_model
 from .forward import _I, ANALYTIC, SYSTEMATIC_PARAMS, ForwardModel, RecordData, weighted_residuals
+from .result import kind_of
 from .verdict import akaike_weights
 
 __all__ = [
@@ -242,6 +244,38 @@ class AveragedFit:
     @property
     def stderr(self) -> dict:
         return {n: row["total"] for n, row in self.budget.items()}
+
+    def table(self, level: float = 0.95, *, style: bool = False):
+        """The averaged parameters for a person to read (as
+        :meth:`pipeline.fit.result.FitResult.table`): rounded to their combined standard
+        uncertainty, the budget as shares (its ``model`` term the laws' spread), the
+        verdict — the laws' weights and the chosen fit's — in words."""
+        from .. import _format
+
+        budget, ci = self.budget, self.ci(level)
+        rows = [
+            {"name": n, "value": v, "stderr": budget.get(n, {}).get("total", math.nan)}
+            for n, v in self.values.items()
+            if kind_of(n) == "contact"
+        ]
+        for r in rows:
+            r["ci"] = ci.get(r["name"])
+        for n in self.fit.lower_only + self.fit.upper_only:
+            side = "lower" if n in self.fit.lower_only else "upper"
+            rows.append({"name": n, "value": self.fit.values[n], "status": side})
+        text, details = self.fit._verdict_words()
+        laws = sorted(self.weights.items(), key=lambda kv: -kv[1])
+        weights = ", ".join(f"{model_words(law)} {w:.2f}" for law, w in laws if w >= 0.005)
+        if any(w < 0.005 for _, w in laws):
+            weights += ", the others < 0.01"
+        df = _format.parameter_table(
+            rows,
+            {r["name"]: budget[r["name"]] for r in rows if r["name"] in budget},
+            verdict=f"{text} Averaged over the laws by their Akaike weights ({weights}).",
+            details=details,
+            level=level,
+        )
+        return _format.styled(df) if style else df
 
 
 @dataclass(frozen=True, eq=False)
