@@ -397,17 +397,38 @@ _TABLE_CSS = [
         "selector": "caption",
         "props": "caption-side: top; text-align: left; font-weight: bold; padding: 0.3em 0;",
     },
-    {"selector": "td, th", "props": "padding: 0.15em 0.6em; text-align: right;"},
-    {"selector": "td.col0, th.col_heading.level0.col0", "props": "text-align: left;"},
+    {
+        "selector": "th, td",
+        "props": "padding: 0.15em 0.7em; text-align: left; white-space: nowrap;",
+    },
+    {"selector": "th.col_heading.level0", "props": "text-align: center;"},
 ]
+#: The spanning header over a table's budget shares.
+SHARES = "share of the variance [%]"
 
 
 def styled(df, *, caption=None, uuid: str = "t"):
     """A table as a pandas Styler for HTML: the caption (default its ``attrs["verdict"]``)
-    on top, the index shown as the first column. ``uuid`` names its HTML ids, so the same
-    table gives the same HTML wherever it is made (a report rendered and run again)."""
+    on top; a parameter table (:func:`parameter_table`) without its index of the results'
+    names and its budget's shares under one header; no index name. ``uuid`` names its HTML
+    ids, so the same table gives the same HTML wherever it is made (a report rendered and
+    the same report run again in a kernel)."""
+    import pandas as pd
+
     caption = df.attrs.get("verdict", "") if caption is None else caption
-    st = df.style.set_uuid(uuid).set_table_styles(_TABLE_CSS)
+    shares = [c for c in df.columns if str(c).endswith(" [%]")]
+    if shares:
+        df = df.copy()
+        df.columns = pd.MultiIndex.from_tuples(
+            [(SHARES, c.removesuffix(" [%]")) if c in shares else ("", c) for c in df.columns]
+        )
+    st = df.style.set_uuid(uuid).set_table_styles(_TABLE_CSS).hide(axis="index", names=True)
+    if (
+        "quantity" in df.columns
+        or ("", "quantity") in df.columns
+        or isinstance(df.index, pd.RangeIndex)
+    ):
+        st = st.hide(axis="index")  # the quantity's symbol names the row, or nothing does
     if caption:
         st = st.set_caption(caption)
     return st

@@ -59,13 +59,13 @@ from pathlib import Path
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from . import figures
+from . import figures, tables
 from ._atomic import atomic_files, atomic_write_text, make_dirs
 from ._json import json_ready
 from .analysis import analyse
 from .errors import InputError, PipelineWarning
 from .fit import fit_contact
-from .report import findings, load_sample, outcomes_frame, scene_from_sidecar
+from .report import findings, load_sample, scene_from_sidecar
 
 __all__ = [
     "TEMPLATES",
@@ -81,6 +81,7 @@ __all__ = [
     "parameters_cell",
     "noted",
     "to_html",
+    "HTML_OPTIONS",
 ]
 
 #: The report templates shipped with the package.
@@ -343,17 +344,46 @@ def record_outputs(analysis, fit, notes=()) -> dict:
     """
     markdown = _need("IPython.display").Markdown
     a = analysis
+    table = fit.table()
     return {
+        "verdict": [_display(markdown(tables.record_verdict(a, fit)))],
         "record": [
-            _display(markdown(f"## Record `{a.record.attrs['source']}`")),
-            *_printed([a.describe(), *(f"note: {n}" for n in notes)]),
+            _display(tables.view(tables.record_table(a), caption="", uuid="record")),
+            *_markdown_if(notes, "Notes on the analysis"),
         ],
-        "outcomes": [_display(outcomes_frame(a))],
+        "outcomes": [
+            _display(tables.view(tables.outcomes_table(a), caption="", uuid="outcomes")),
+            _display(
+                tables.view(
+                    tables.score_table(a),
+                    caption="Deviation from Routh's broken line",
+                    uuid="score",
+                )
+            ),
+        ],
         "forces": [_display(figures.fig8_forces(a))],
         "plane": [_display(figures.fig9_percussion_plane(a))],
-        "findings": _printed(findings(a).text),
-        "fit": [*_printed([fit.report()]), _display(figures.fig_contact_fit(fit))],
+        "findings": [_display(markdown("\n".join(f"- {line}" for line in findings(a).text)))],
+        "fit": [
+            _display(tables.view(table, uuid="fit")),
+            _display(figures.fig_contact_fit(fit)),
+            _display(
+                tables.view(
+                    tables.implied_table(fit),
+                    caption="What the fitted parameters imply",
+                    uuid="implied",
+                )
+            ),
+            *_markdown_if([*table.attrs["details"], *fit.notes], "Notes on the fit"),
+        ],
     }
+
+
+def _markdown_if(notes, title) -> list:
+    """The output of ``if notes: display(Markdown(notes_markdown(title, notes)))``."""
+    if not notes:
+        return []
+    return [_display(_need("IPython.display").Markdown(tables.notes_markdown(title, notes)))]
 
 
 def noted(fn, *args, **kwargs):
@@ -447,7 +477,9 @@ def _gc_paused():
 
 
 def to_html(nb) -> str:
-    """A notebook as one self-contained HTML page (figures embedded, no input prompts)."""
+    """A notebook as one self-contained HTML page: figures embedded, no input prompts, the
+    code of each cell folded away (a reader opens it by its "code" summary), nothing
+    loaded from the network (:data:`HTML_OPTIONS`)."""
     quiet = logging.getLogger("traitlets")  # nbconvert's accessibility hints are not ours
     level = quiet.level
     quiet.setLevel(logging.ERROR)
@@ -457,6 +489,17 @@ def to_html(nb) -> str:
     finally:
         quiet.setLevel(level)
     return body
+
+
+#: The options of the reports' nbconvert HTML exporter: no prompts, and the package's own
+#: template (``templates/html/pipeline_report``: JupyterLab's page with each cell's code
+#: folded under a "code" a reader can open, and nothing loaded from the network).
+HTML_OPTIONS = {
+    "exclude_input_prompt": True,
+    "exclude_output_prompt": True,
+    "template_name": "pipeline_report",
+    "extra_template_basedirs": [str(Path(__file__).with_name("templates") / "html")],
+}
 
 
 @functools.cache
@@ -481,8 +524,7 @@ def _exporter(lexer):
         return highlighted(source, language, (metadata or {}).get("magics_language"))
 
     return HTMLExporter(
-        exclude_input_prompt=True,
-        exclude_output_prompt=True,
+        **HTML_OPTIONS,
         filters={
             "highlight_code": highlight_code,
             "clean_html": functools.lru_cache(maxsize=256)(clean_html),

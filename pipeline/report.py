@@ -42,6 +42,7 @@ import numpy as np
 import pandas as pd
 
 from ._atomic import atomic_dir, atomic_write_text, clean_stale
+from ._format import pdg
 from ._json import json_ready
 from .advice import advice_for
 from .analysis import Analysis, analyse
@@ -94,9 +95,10 @@ class Findings:
 
 
 def _pm(score, phase, metric):
+    """A score ± its bootstrap std, rounded to it (:func:`pipeline._format.pdg`)."""
     v = score.values[phase][metric]
     s = score.std[phase][metric]
-    return f"{v:.3f} ± {s:.3f}" if np.isfinite(s) else f"{v:.3f}"
+    return pdg(v, s) if np.isfinite(s) and s > 0 else f"{v:.3f}"
 
 
 def findings(a: Analysis) -> Findings:

@@ -288,10 +288,10 @@ def test_html_is_nbconverts_own(report, campaign_made):
     highlighted code) is what a fresh nbconvert HTMLExporter makes of each."""
     from nbconvert import HTMLExporter
 
-    from pipeline.notebook_report import to_html
+    from pipeline.notebook_report import HTML_OPTIONS, to_html
 
     for path in (report.ipynb, campaign_made / "gr_30deg_0.3ms.ipynb"):
         nb = nbformat.read(path, as_version=4)
-        fresh = HTMLExporter(exclude_input_prompt=True, exclude_output_prompt=True)
+        fresh = HTMLExporter(**HTML_OPTIONS)
         expected, _ = fresh.from_notebook_node(nb)
         assert to_html(nb) == expected, path

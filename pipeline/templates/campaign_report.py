@@ -15,43 +15,45 @@
 # %% [markdown]
 # # Campaign report
 #
-# Made by `pipeline campaign` from the template `pipeline/templates/campaign_report.py`:
-# every number and figure below is read from the campaign's Dataset named in the
-# parameters cell (`campaign.nc`, written by `pipeline campaign`). Theory: the project's
-# `docs/`; friction law after Garland & Rogers, J. Appl. Mech. 76:031015 (2009),
-# doi:10.1115/1.3086432.
+# What a campaign of impact records says, the verdict first. A value ± its uncertainty is
+# rounded to that uncertainty (as the Particle Data Group rounds) in the unit a person reads;
+# every digit is in the campaign's Dataset (how this report is made: at its end).
 
 # %% tags=["parameters"]
 dataset = "build/campaign/campaign.nc"  # the campaign's netCDF file
 
-# %%
+# %% tags=["verdict"]
 # %matplotlib inline
-import json
-
+# %config InlineBackend.print_figure_kwargs = {"bbox_inches": None}
+# (the figures are shown whole, as drawn: they lay themselves out inside their canvas)
 import xarray as xr
 from IPython.display import Markdown, display
 
 from pipeline import figures
-from pipeline.campaigns import table_of
+from pipeline.tables import (
+    beside,
+    campaign_verdict,
+    joint_table,
+    records_table,
+    trends_table,
+    view,
+)
 
 ds = xr.load_dataset(dataset, engine="h5netcdf")
-ok = int((ds["status"] == "ok").sum())
-display(
-    Markdown(
-        f"## {ds.attrs.get('source', 'campaign')}: {ok} of {ds.sizes['record']} records analysed"
-    )
-)
-failed = ds.where(ds["status"] != "ok", drop=True)
-for name, reason in zip(failed["record"].values, failed["reason"].values, strict=True):
-    print(f"failed: {name}: {reason}")
+display(Markdown(campaign_verdict(ds)))
 
 # %% [markdown]
 # ## Every record
+#
+# The measured outcomes ± their bootstrap standard deviation, μ estimated from each record
+# and the maximum distance of the measured Pt(Pn) from Routh's broken line (dimensionless);
+# then each record's fitted contact parameters ± their standard uncertainties.
 
 # %% tags=["table"]
-cols = ["record", "status", "angle_deg", "speed_m_s", "repeat", "regime", "e_n", "e_t"]
-cols += ["omega_rad_s", "rebound_deg_deg", "mu_record", "score_max_distance"]
-display(table_of(ds)[cols])
+display(view(records_table(ds), caption="Measured", uuid="records"))
+fitted = records_table(ds, fits=True)
+if len(fitted):
+    display(view(fitted, caption="Fitted to each record's forces", uuid="fits"))
 
 # %% [markdown]
 # ## Outcomes against incidence, with rigid theory and the compliant model
@@ -61,15 +63,22 @@ display(figures.campaign_outcomes(ds))
 
 # %% [markdown]
 # ## Friction against the initial tangential speed
+#
+# The trend of μ estimated from each record, as a law and as a constant, compared by AIC.
 
-# %%
-display(figures.campaign_friction(ds))
+# %% tags=["friction"]
+display(beside(figures.campaign_friction(ds), view(trends_table(ds, "friction"), uuid="friction")))
 
 # %% [markdown]
 # ## Restitution against speed: the two damping hypotheses
 
-# %%
-display(figures.campaign_restitution(ds))
+# %% tags=["restitution"]
+display(
+    beside(
+        figures.campaign_restitution(ds),
+        view(trends_table(ds, "restitution"), uuid="restitution"),
+    )
+)
 
 # %% [markdown]
 # ## How far rigid-body theory is off
@@ -78,7 +87,22 @@ display(figures.campaign_restitution(ds))
 display(figures.campaign_score(ds))
 
 # %% [markdown]
-# ## The campaign's trends (numbers)
+# ## The joint fit of every record's forces
+#
+# One fit of all the records' Fn and Ft with E* and the damping shared and μ a law of the
+# initial tangential speed; the hypotheses compared by AIC and BIC (ΔAIC > 10: decisive).
 
-# %% tags=["trends"]
-print(json.dumps(json.loads(ds.attrs["trends_json"]), indent=1))
+# %% tags=["joint"]
+joint = joint_table(ds)
+display(view(joint, uuid="joint"))
+if len(joint.attrs["compare"]):
+    display(view(joint.attrs["compare"], caption="The hypotheses compared", uuid="compare"))
+
+# %% [markdown]
+# ## How this report is made
+#
+# By `pipeline campaign` from the template `pipeline/templates/campaign_report.py`: every
+# number and figure is read from the campaign's Dataset named in the parameters cell
+# (`campaign.nc`, written by `pipeline campaign`); in the HTML page each cell's code is folded
+# under "code" (the notebook shows it). Theory: the project's `docs/`; friction law after
+# Garland & Rogers, J. Appl. Mech. 76:031015 (2009), doi:10.1115/1.3086432.
