@@ -94,3 +94,54 @@ def close(shown: float, unit_digit: float, value: float) -> bool:
     if math.isinf(value) or math.isinf(shown):
         return shown == value
     return abs(shown - value) <= 0.5 * unit_digit * (1 + 1e-9) + 1e-12 * abs(value)
+
+
+def html_tables(html: str) -> list:
+    """The tables of an HTML page or fragment, each as ``{"head": [row, ...], "body":
+    [row, ...]}`` of cell texts (a caption dropped)."""
+    from html.parser import HTMLParser
+
+    class _Tables(HTMLParser):
+        def __init__(self):
+            super().__init__()
+            self.tables, self.part, self.row, self.cell, self.skip = [], "body", None, None, 0
+
+        def handle_starttag(self, tag, attrs):
+            if tag == "table":
+                self.tables.append({"head": [], "body": []})
+            elif tag == "thead":
+                self.part = "head"
+            elif tag == "tbody":
+                self.part = "body"
+            elif tag == "caption":
+                self.skip += 1
+            elif tag == "tr":
+                self.row = []
+            elif tag in ("td", "th"):
+                self.cell = []
+
+        def handle_endtag(self, tag):
+            if tag == "caption":
+                self.skip -= 1
+            elif tag == "thead":
+                self.part = "body"
+            elif tag in ("td", "th") and self.cell is not None:
+                self.row.append("".join(self.cell).strip())
+                self.cell = None
+            elif tag == "tr" and self.row is not None:
+                self.tables[-1][self.part].append(self.row)
+                self.row = None
+
+        def handle_data(self, data):
+            if self.cell is not None and not self.skip:
+                self.cell.append(data)
+
+    p = _Tables()
+    p.feed(html)
+    return p.tables
+
+
+def rows_of(table: dict) -> list:
+    """A table's body rows as dicts keyed by its last header row's cells."""
+    names = table["head"][-1]
+    return [dict(zip(names, row, strict=True)) for row in table["body"]]

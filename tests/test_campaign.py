@@ -442,3 +442,49 @@ def test_pipeline_campaign_is_callable_as_the_api_names_it():
     ds = pipeline.campaign(SAMPLES / "gr_45deg_0.3ms.csv", n_boot=0, fit=False)
     assert list(ds["status"].values) == ["ok"]
     assert pipeline.campaigns.campaign is campaign
+
+
+def test_the_campaign_reports_tables_state_the_datasets_numbers(result):
+    """Every number the campaign report's tables show (pipeline.tables) is the Dataset's to
+    its shown digits — each record's outcomes ± their spread and fitted E*, the trends'
+    parameters, the joint fit's — and a failed record shows none (issue 21)."""
+    from _shown import close, parse_value
+
+    from pipeline.tables import campaign_verdict, joint_table, records_table, trends_table
+
+    ds, _, _ = result
+
+    def states(cell, value, std=None, scale=1.0):
+        got = parse_value(cell)
+        ok = close(got["v"], got["unit_v"], value * scale)
+        if std is not None:
+            ok = ok and got["s"] is not None and close(got["s"], got["unit_s"], std * scale)
+        return ok
+
+    measured, fitted = records_table(ds), records_table(ds, fits=True)
+    for i, name in enumerate(ds["record"].values):
+        row, fit = measured.loc[str(name)], fitted.loc[str(name)]
+        if ds["status"].values[i] != "ok":
+            assert row["status"] == "failed" and row["e_t"] == "–" and fit["E* [GPa]"] == "–"
+            continue
+        for col, var in (("e_n", "e_n"), ("e_t", "e_t"), ("ω [rad/s]", "omega")):
+            assert states(row[col], ds[var].values[i], ds[f"{var}_std"].values[i]), (name, col)
+        e = ds["fit_E_eff"].values[i]
+        assert states(fit["E* [GPa]"], e, ds["fit_E_eff_std"].values[i], 1e-9), name
+    tr = json.loads(ds.attrs["trends_json"])
+    fr = trends_table(ds, "friction")
+    mu_a, mu_b = fr.loc["μ = μ_a + μ_b·v_t0", "parameters"].split("; ")
+    assert states(mu_a.split(" = ")[1], tr["friction"]["mu_a"], tr["friction"]["mu_a_std"])
+    assert states(mu_b.split(" = ")[1].removesuffix(" s/m"), tr["friction"]["mu_b"])
+    delta = abs(tr["friction"]["aic_linear"] - tr["friction"]["aic_constant"])
+    assert sorted(fr["ΔAIC"]) == sorted(["0", fr["ΔAIC"].max()])
+    assert close(float(fr["ΔAIC"].max()), 10 ** -len(fr["ΔAIC"].max().partition(".")[2]), delta)
+    jf = json.loads(ds.attrs["joint_fit_json"])
+    joint = joint_table(ds)
+    assert "E_eff" in joint.index and not any("_" in n and n[-1].isdigit() for n in joint.index)
+    for name, row in joint.iterrows():
+        scale = {"GPa": 1e-9}.get(row["unit"], 1.0)
+        assert states(row["value"], jf["values"][name], jf["stderr"][name], scale), name
+    verdict = campaign_verdict(ds)
+    assert verdict.startswith(f"## {ds.attrs['source']}: 5 of 9 records analysed")
+    assert verdict.count("failed: ") == 4
