@@ -56,6 +56,7 @@ __all__ = [
     "share_text",
     "parameter_table",
     "styled",
+    "html_table",
     "as_text",
     "plain_quantities",
     "model_words",
@@ -432,6 +433,29 @@ def styled(df, *, caption=None, uuid: str = "t"):
     if caption:
         st = st.set_caption(caption)
     return st
+
+
+def html_table(df, uuid: str = "t") -> str:
+    """A table as light HTML (``DataFrame.to_html``: no per-cell ids or classes, which
+    keeps a report's page quick to write), laid out as :func:`styled` lays it out: a
+    parameter table without its index and with its budget's shares under one header, no
+    index name; ``id="T_<uuid>"`` and class ``pipeline-table`` (the reports' page styles it:
+    ``templates/html``)."""
+    import pandas as pd
+
+    df = df.copy()
+    shares = [c for c in df.columns if str(c).endswith(" [%]")]
+    if shares:
+        df.columns = pd.MultiIndex.from_tuples(
+            [(SHARES, c.removesuffix(" [%]")) if c in shares else ("", c) for c in df.columns]
+        )
+    index = "quantity" not in df.columns and ("", "quantity") not in df.columns
+    index = index and not isinstance(df.index, pd.RangeIndex)
+    df.index.name = None
+    df.columns.name = None
+    return df.to_html(
+        index=index, border=0, classes="pipeline-table", table_id=f"T_{uuid}", escape=True
+    )
 
 
 def plain_quantities(values: dict) -> str:

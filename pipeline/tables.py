@@ -6,8 +6,8 @@ A record's report (``templates/record_report.py``) shows :func:`record_verdict`,
 :meth:`~pipeline.fit.result.FitResult.table`; a campaign's (``templates/campaign_report.py``)
 :func:`campaign_verdict`, :func:`records_table`, :func:`trends_table` beside the figure that
 shows each trend (:func:`beside`) and :func:`joint_table`. :func:`view` wraps a table for
-``display``: HTML (a pandas Styler with fixed ids, so the same report made twice gives the
-same page) and text.
+``display``: plain HTML (:func:`pipeline._format.html_table`: light markup, the same for the
+same table wherever it is made) and text.
 
 Every number here is rounded for reading; the machines' numbers, every digit, stay in the
 results' ``summary()`` (``tests/test_notebook_report.py`` checks that each number a report
@@ -58,8 +58,7 @@ class _View:
         # the caption as a paragraph above the table: a table's own caption is only as wide
         # as the table, and a verdict over a narrow table would wrap in a thin column
         head = f'<p class="pipeline-caption"><strong>{escape(self.caption)}</strong></p>'
-        table = _format.styled(self.df, caption="", uuid=self.uuid).to_html()
-        return (head if self.caption else "") + table
+        return (head if self.caption else "") + _format.html_table(self.df, self.uuid)
 
     def __repr__(self):
         text = self.df.to_string()
@@ -67,8 +66,8 @@ class _View:
 
 
 def view(df, *, caption=None, uuid: str = "t") -> _View:
-    """``df`` for ``display``: an HTML table with ``caption`` on top (default the table's
-    ``attrs["verdict"]``) and its text; ``uuid`` names the HTML's ids (unique per page)."""
+    """``df`` for ``display``: an HTML table with ``caption`` above it (default the table's
+    ``attrs["verdict"]``) and its text; ``uuid`` names the table's HTML id (one per page)."""
     caption = df.attrs.get("verdict", "") if caption is None else caption
     return _View(df, caption, uuid)
 
@@ -415,7 +414,9 @@ def trends_table(ds, which: str) -> pd.DataFrame:
         raise ValueError(f"which must be 'friction' or 'restitution', got {which!r}")
     rows = [r for r in rows if r["parameters"]]
     if not rows:
-        return pd.DataFrame(columns=["parameters", "ΔAIC"])
+        df = pd.DataFrame(columns=["parameters", "ΔAIC"])
+        df.attrs["verdict"] = f"No {which} trend (too few records)"
+        return df
     best = min(rows, key=lambda r: r["AIC"])
     preferred, lowest = best["hypothesis"], best["AIC"]
     for r in rows:
@@ -436,7 +437,11 @@ def joint_table(ds) -> pd.DataFrame:
     its comparison with the other hypotheses in ``attrs["compare"]``."""
     jf = _json_attr(ds, "joint_fit_json")
     if not jf:
-        return _format.parameter_table([], verdict="no joint fit")
+        df = _format.parameter_table(
+            [], verdict=ds.attrs.get("joint_fit_error", "no joint fit (fewer than two records)")
+        )
+        df.attrs["compare"] = pd.DataFrame()
+        return df
     values, stderr = jf.get("values", {}), jf.get("stderr", {})
     rows = [
         {"name": k, "value": v, "stderr": stderr.get(k) if stderr.get(k) is not None else math.nan}
