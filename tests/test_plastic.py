@@ -301,6 +301,12 @@ def test_fit_recovers_a_plastic_contact():
     row = fit.summary()["parameters"]["p_y"]
     assert row["derived"] and row["unit"] == "Pa" and row["ci95"] == pytest.approx(ci["p_y"])
     assert "yield pressure, implied" in fit.report()
+    # the human table: the yield point with the contact parameters, p_y in GPa (issue 21)
+    table = fit.table()
+    assert list(table.index) == ["E_eff", "e", "p_y", "v_y"]
+    assert table.loc["p_y", "unit"] == "GPa" and table.loc["v_y", "unit"] == "m/s"
+    value, _, sigma = table.loc["p_y", "value"].partition(" ± ")
+    assert abs(float(value) * 1e9 - row["value"]) <= 0.5 * 10 ** -len(value.split(".")[1]) * 1e9
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", PipelineWarning)
         default = fit_contact(rec, told, tangential="none", n_boot=0)

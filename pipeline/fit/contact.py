@@ -195,6 +195,19 @@ class ContactFit(FitResult):
             out.update({k: v[2] for k, v in self._derived(level).items()})
         return out
 
+    def _derived_rows(self, level) -> list:
+        """The yield pressure and speed of Thornton's law in :meth:`table` (a lower bound
+        where e's interval reaches 1)."""
+        rows = []
+        for k, (v, se, (lo, hi)) in self._derived(level).items():
+            if math.isinf(hi):
+                rows.append({"name": k, "value": lo, "status": "lower", "kind": "contact"})
+            else:
+                rows.append(
+                    {"name": k, "value": v, "stderr": se, "ci": (lo, hi), "kind": "contact"}
+                )
+        return rows
+
     def _param_lines(self, level=0.95) -> list:
         lines = super()._param_lines(level)
         for k, (v, se, (lo, hi)) in self._derived(level).items():

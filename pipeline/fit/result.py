@@ -345,6 +345,7 @@ class FitResult:
                     "kind": kind,
                 }
             )
+        rows += self._derived_rows(level)
         rows.sort(key=lambda r: r["kind"] != "contact")  # the physical parameters first
         verdict, details = self._verdict_words()
         df = _format.parameter_table(
@@ -355,6 +356,10 @@ class FitResult:
             level=level,
         )
         return _format.styled(df) if style else df
+
+    def _derived_rows(self, level) -> list:
+        """Rows of :meth:`table` for quantities the fitted parameters imply (none here)."""
+        return []
 
     def _verdict_words(self) -> tuple:
         """(the verdict in a sentence, [what stands behind it]) from the misfit test."""
