@@ -32,12 +32,12 @@ from . import rigid as _rigid
 from . import score as _score
 from . import smooth as _smooth
 from . import window as _window
-from ._format import pdg, plain
 from ._json import json_ready
 from .errors import InputError
 from .fit import select_model
 from .percussion import estimate_mu
 from .plausibility import Plausibility, check_outcomes, check_plausible
+from .precision import pdg, plain
 from .record import channel
 from .scene import Scene
 from .smooth import noise_level
@@ -276,7 +276,7 @@ class Analysis:
         came from, the measured outcomes with their bootstrap std beside the rigid
         prediction, the regime and the deviation score (what ``pipeline analyse`` prints).
         A value with its std is rounded to it (the Particle Data Group's rule,
-        :mod:`pipeline._format`); every digit is in :meth:`summary`.
+        :mod:`pipeline.precision`); every digit is in :meth:`summary`.
         """
         sc, rs, o = self.scene, self.rigid, self.outcomes
         src = self.record.attrs.get("source", "record")

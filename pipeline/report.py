@@ -42,7 +42,6 @@ import numpy as np
 import pandas as pd
 
 from ._atomic import atomic_dir, atomic_write_text, clean_stale
-from ._format import pdg
 from ._json import json_ready
 from .advice import advice_for
 from .analysis import Analysis, analyse
@@ -50,6 +49,7 @@ from .errors import InputError
 from .fit import fit_contact
 from .io import RECORD_SUFFIXES, load, load_contact, read_json
 from .percussion import compression_split, percussions
+from .precision import pdg
 from .scene import Scene
 from .score import NEAR_ZERO
 from .window import find_contact
@@ -95,7 +95,7 @@ class Findings:
 
 
 def _pm(score, phase, metric):
-    """A score ± its bootstrap std, rounded to it (:func:`pipeline._format.pdg`)."""
+    """A score ± its bootstrap std, rounded to it (:func:`pipeline.precision.pdg`)."""
     v = score.values[phase][metric]
     s = score.std[phase][metric]
     return pdg(v, s) if np.isfinite(s) and s > 0 else f"{v:.3f}"

@@ -1,12 +1,12 @@
 """What the report notebooks show a reader: the verdict in words, and tables of numbers
-rounded to their uncertainty in the units a person reads (:mod:`pipeline._format`).
+rounded to their uncertainty in the units a person reads (:mod:`pipeline.precision`).
 
 A record's report (``templates/record_report.py``) shows :func:`record_verdict`,
 :func:`record_table`, :func:`outcomes_table`, :func:`score_table` and the fit's own
 :meth:`~pipeline.fit.result.FitResult.table`; a campaign's (``templates/campaign_report.py``)
 :func:`campaign_verdict`, :func:`records_table`, :func:`trends_table` beside the figure that
 shows each trend (:func:`beside`) and :func:`joint_table`. :func:`view` wraps a table for
-``display``: plain HTML (:func:`pipeline._format.html_table`: light markup, the same for the
+``display``: plain HTML (:func:`pipeline.precision.html_table`: light markup, the same for the
 same table wherever it is made) and text.
 
 Every number here is rounded for reading; the machines' numbers, every digit, stay in the
@@ -26,9 +26,9 @@ from html import escape
 import numpy as np
 import pandas as pd
 
-from . import _format
-from ._format import bound, in_unit, pdg, plain, quantity, rounded
+from . import precision
 from .fit.result import kind_of
+from .precision import bound, in_unit, pdg, plain, quantity, rounded
 from .score import NEAR_ZERO
 
 __all__ = [
@@ -58,7 +58,7 @@ class _View:
         # the caption as a paragraph above the table: a table's own caption is only as wide
         # as the table, and a verdict over a narrow table would wrap in a thin column
         head = f'<p class="pipeline-caption"><strong>{escape(self.caption)}</strong></p>'
-        return (head if self.caption else "") + _format.html_table(self.df, self.uuid)
+        return (head if self.caption else "") + precision.html_table(self.df, self.uuid)
 
     def __repr__(self):
         text = self.df.to_string()
@@ -437,7 +437,7 @@ def joint_table(ds) -> pd.DataFrame:
     its comparison with the other hypotheses in ``attrs["compare"]``."""
     jf = _json_attr(ds, "joint_fit_json")
     if not jf:
-        df = _format.parameter_table(
+        df = precision.parameter_table(
             [], verdict=ds.attrs.get("joint_fit_error", "no joint fit (fewer than two records)")
         )
         df.attrs["compare"] = pd.DataFrame()
@@ -465,7 +465,7 @@ def joint_table(ds) -> pd.DataFrame:
         f"{len(jf.get('compare', []))} hypotheses by AIC"
         + (f", χ²_ν = {plain(chosen['redchi'], 3)}" if chosen.get("redchi") is not None else "")
     )
-    df = _format.parameter_table(rows, verdict=verdict)
+    df = precision.parameter_table(rows, verdict=verdict)
     df = df.drop(columns=[c for c in df.columns if c.endswith("interval")])
     compare = pd.DataFrame(jf.get("compare", []))
     if not compare.empty:

@@ -106,7 +106,7 @@ def _readable(fit, averaged=None, head="") -> str:
     is in --json and in --out's fit.txt."""
     import textwrap
 
-    from .._format import as_text, plain_quantities
+    from ..precision import as_text, plain_quantities
 
     lines = [
         f"Contact fit of {fit.data.record.attrs.get('source', 'the record')} "

@@ -9,8 +9,8 @@ import math
 import numpy as np
 from matplotlib.figure import Figure
 
-from .._format import rounded
 from ..contact import cor_hunt_crossley_alpha
+from ..precision import rounded
 from ..rigid import sphere_on_plane
 from ..scene import Scene
 from ..score import NEAR_ZERO

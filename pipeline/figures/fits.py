@@ -125,7 +125,7 @@ _TEX = {
 def _legend_title(fit) -> str:
     """The model, χ²_ν and the fitted parameters as the fit's table rounds them (two to a
     line: the figure is one column wide)."""
-    from .._format import model_words, plain
+    from ..precision import model_words, plain
 
     model = f"{model_words(fit.normal)} + {model_words(fit.tangential)}"
     table = fit.table()

@@ -50,10 +50,10 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from .._format import plain
 from .._json import json_ready
 from ..contact import NORMAL_LAWS
 from ..errors import InputError, PipelineWarning, PoorFitWarning
+from ..precision import plain
 from ..scene import Scene
 from .blocks import solve_blocks
 from .contact import DEFAULT_VARY, _start, e_of_alpha, fit_model

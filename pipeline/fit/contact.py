@@ -62,11 +62,11 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import special
 
-from .._format import model_words
 from .._json import json_ready
 from ..contact import NORMAL_LAWS, calibrate_thornton, yield_pressure
 from ..errors import InputError, PipelineWarning
 from ..percussion import estimate_mu
+from ..precision import model_words
 from ..scene import Scene
 from ..simulate.curved import geometry_error
 from ..smooth import runs_test

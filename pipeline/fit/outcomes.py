@@ -129,7 +129,7 @@ class OutcomeFit:
         each parameter rounded to its standard error (PDG), a bound where the data bound it
         on one side only, ``"fixed"`` where it was not fitted; the fit in words in
         ``attrs["verdict"]``, the notes in ``attrs["details"]``."""
-        from .. import _format
+        from .. import precision
 
         ci = self.ci(level)
         rows = []
@@ -148,8 +148,8 @@ class OutcomeFit:
             f"Rebound outcomes ({', '.join(self.columns)}) of {len(self.data)} impacts fitted "
             f"by the {self.model!r} model: χ²_ν = {self.redchi:.3g}."
         )
-        df = _format.parameter_table(rows, verdict=verdict, details=self.notes, level=level)
-        return _format.styled(df) if style else df
+        df = precision.parameter_table(rows, verdict=verdict, details=self.notes, level=level)
+        return precision.styled(df) if style else df
 
     def predict(self, angle_deg, speed=None):
         """The model's outcomes at incidences ``angle_deg`` [deg] (dict of arrays)."""

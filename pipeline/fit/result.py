@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import special
 
-from .. import _format
+from .. import precision
 from .._json import json_ready
 from .forward import SYSTEMATIC_PARAMS, UNITS
 from .uncertainty import normal_interval, one_sided_bound, percentile_interval
@@ -314,7 +314,7 @@ class FitResult:
         Returns
         -------
         pandas.DataFrame (or its Styler)
-            One row per parameter (:func:`pipeline._format.parameter_table`): ``value``
+            One row per parameter (:func:`pipeline.precision.parameter_table`): ``value``
             is value ± the combined standard uncertainty (the budget's ``total``) rounded
             by the Particle Data Group's rule, a bound (``≥ 0.131``) where the data bound
             the parameter on one side only; the interval at ``level`` (:meth:`ci`), and
@@ -348,14 +348,14 @@ class FitResult:
         rows += self._derived_rows(level)
         rows.sort(key=lambda r: r["kind"] != "contact")  # the physical parameters first
         verdict, details = self._verdict_words()
-        df = _format.parameter_table(
+        df = precision.parameter_table(
             rows,
             {r["name"]: budget[r["name"]] for r in rows if r["name"] in budget},
             verdict=verdict,
             details=details,
             level=level,
         )
-        return _format.styled(df) if style else df
+        return precision.styled(df) if style else df
 
     def _derived_rows(self, level) -> list:
         """Rows of :meth:`table` for quantities the fitted parameters imply (none here)."""

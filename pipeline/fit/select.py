@@ -58,9 +58,9 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import special
 
-from .._format import model_words
 from .._json import json_ready
 from ..errors import InputError, PipelineWarning
+from ..precision import model_words
 from .contact import DEFAULT_VARY, ContactFit, fit_contact, fit_model
 from .forward import _I, ANALYTIC, SYSTEMATIC_PARAMS, ForwardModel, RecordData, weighted_residuals
 from .result import kind_of
@@ -250,7 +250,7 @@ class AveragedFit:
         :meth:`pipeline.fit.result.FitResult.table`): rounded to their combined standard
         uncertainty, the budget as shares (its ``model`` term the laws' spread), the
         verdict — the laws' weights and the chosen fit's — in words."""
-        from .. import _format
+        from .. import precision
 
         budget, ci = self.budget, self.ci(level)
         rows = [
@@ -268,14 +268,14 @@ class AveragedFit:
         weights = ", ".join(f"{model_words(law)} {w:.2f}" for law, w in laws if w >= 0.005)
         if any(w < 0.005 for _, w in laws):
             weights += ", the others < 0.01"
-        df = _format.parameter_table(
+        df = precision.parameter_table(
             rows,
             {r["name"]: budget[r["name"]] for r in rows if r["name"] in budget},
             verdict=f"{text} Averaged over the laws by their Akaike weights ({weights}).",
             details=details,
             level=level,
         )
-        return _format.styled(df) if style else df
+        return precision.styled(df) if style else df
 
 
 @dataclass(frozen=True, eq=False)

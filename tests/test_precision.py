@@ -1,4 +1,4 @@
-"""Numbers at their precision (pipeline._format) and the fits' human tables (``table()``):
+"""Numbers at their precision (pipeline.precision) and the fits' human tables (``table()``):
 values rounded to their uncertainty by the Particle Data Group's rule, in the units a
 person reads, bounds rounded outward, the budget as shares of the variance — and every
 number a table shows equal, to its shown digits, to the one ``summary()`` holds."""
@@ -14,7 +14,7 @@ from _rig import GR_RIG as GR
 from _shown import UNIT_SCALE, close, parse_interval, parse_value
 
 from pipeline import Scene, fit_contact, fit_outcomes
-from pipeline._format import (
+from pipeline.precision import (
     bound,
     in_unit,
     interval,
