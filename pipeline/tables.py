@@ -169,8 +169,8 @@ def record_table(a) -> pd.DataFrame:
             f"v = {sc.speed:g} m/s at {sc.angle_deg:g}° (v_n0 = {plain(float(sc.v_n0))} m/s, "
             f"v_t0 = {plain(float(sc.v_t0))} m/s)",
         ),
-        ("μ of the rigid model", f"{plain(rs.mu)} (from the {a.sources.get('mu')})"),
-        ("e of the rigid model", f"{plain(rs.e)} (from the {a.sources.get('e')})"),
+        ("μ of the rigid model", f"{float(rs.mu):.4g} (from the {a.sources.get('mu')})"),
+        ("e of the rigid model", f"{float(rs.e):.4g} (from the {a.sources.get('e')})"),
         ("μ estimated from the record", plain(a.mu_record)),
         ("regime (Routh)", str(a.rigid.regime)),
     ]

@@ -10,6 +10,7 @@ Garland–Rogers-style samples (simulated the same way; data_samples/README.md).
 from __future__ import annotations
 
 import json
+import re
 import warnings
 from pathlib import Path
 
@@ -126,6 +127,16 @@ def test_cli_fit_prints_a_report_and_writes_outputs(capsys, tmp_path):
     assert {p.name for p in tmp_path.iterdir()} == {"fit.json", "fit.txt", "fit.png"}
     summary = json.loads((tmp_path / "fit.json").read_text())
     assert summary["parameters"]["e"]["value"] == pytest.approx(0.9, abs=0.005)
+    # a person reads the verdict and E* in GPa rounded to its uncertainty; fit.txt keeps
+    # every digit (issue 21)
+    assert "describes the record: the residuals are at the noise level" in out
+    (row,) = re.findall(r"^E\*\s+(\S+) ± (\S+)\s+GPa", out, re.M)
+    e_eff, total = summary["parameters"]["E_eff"]["value"], summary["budget"]["E_eff"]["total"]
+    assert abs(float(row[0]) * 1e9 - e_eff) <= 0.5 * 10 ** -len(row[0].split(".")[-1]) * 1e9
+    assert abs(float(row[1]) * 1e9 - total) <= 0.5 * 10 ** -len(row[1].split(".")[-1]) * 1e9
+    assert "Contact fit of gr_15deg_0.6ms.csv: normal 'hunt_crossley'" in (
+        tmp_path / "fit.txt"
+    ).read_text(encoding="utf-8")
     assert (
         main(["fit", str(MAIN), "--boot", "0", "--json", "--model", "hunt_crossley+coulomb"]) == 0
     )

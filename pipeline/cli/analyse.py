@@ -103,7 +103,13 @@ def run(args) -> int:
 def _readable(a, sources: dict, checks, advice=None) -> str:
     """:meth:`pipeline.analysis.Analysis.describe`, where the scene's values came from, the
     plausibility checks, and the cheapest model accurate enough for the scene."""
-    lines = [a.describe(), "", "scene values and where they came from:"]
+    lines = [a.describe()]
+    sel = a.model_selection
+    if sel is not None and sel.averaged is not None:  # μ or e came from a contact fit
+        from ..precision import as_text
+
+        lines += ["", "the contact fit that gave them:", as_text(sel.averaged.table())]
+    lines += ["", "scene values and where they came from:"]
     for name, value in a.scene.to_dict().items():
         lines.append(f"  {name:14s} {value:<12.6g} {sources.get(name, 'default')}")
     status = {k: v.get("status") for k, v in checks.summary().items() if isinstance(v, dict)}

@@ -74,7 +74,7 @@ from .engine import Design
 from .forward import _I, PARAMS, UNITS, ForwardModel, RecordData, Solution, param_scales, prepare
 from .procedure import run_fit
 from .pulse import E_MIN, normal_pulse
-from .result import FitResult
+from .result import FitResult, _misfit_words
 from .systematics import resolve
 from .tangential import tangential_response
 from .verdict import alternative_laws, alternative_orders, diagnose, model_spread
@@ -348,7 +348,7 @@ class ContactFit(FitResult):
         else:
             missed = [w for c, w in zip(causes, said, strict=True) if c != "coloured_noise"]
             if self.misfit is not None and not self.misfit.ok:
-                missed += list(self.misfit.reasons)
+                missed += _misfit_words(self.misfit)
             text = (
                 f"The model ({model}) does not describe the record: "
                 + ("; ".join(missed) or "the misfit test fails")

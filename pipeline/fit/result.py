@@ -40,6 +40,22 @@ def kind_of(name: str) -> str:
     return "per record" if index.isdigit() and base else "contact"
 
 
+def _misfit_words(m) -> list:
+    """What failed the misfit test (:class:`pipeline.fit.procedure.Misfit`), its numbers
+    at a reader's precision."""
+    out = []
+    if any(r.startswith("χ²_ν") for r in m.reasons):
+        out.append(
+            f"the residuals' χ²_ν is {precision.plain(m.redchi, 3)}, "
+            f"{precision.plain(m.chi2_z, 3)} standard deviations above 1"
+        )
+    runs = [k for k in m.runs_z if any(r.startswith(f"{k} residual") for r in m.reasons)]
+    if runs:
+        z = ", ".join(f"{k} z = {precision.plain(m.runs_z[k], 3)}" for k in runs)
+        out.append(f"the residual signs run in long stretches ({z})")
+    return out or list(m.reasons)
+
+
 @dataclass(frozen=True, eq=False)
 class FitResult:
     """A fit's parameters with their uncertainty (see the module notes).
@@ -378,7 +394,7 @@ class FitResult:
                 f"(χ²_ν = {m.redchi:.3g}).",
                 [],
             )
-        return "The model does not describe the data: " + "; ".join(m.reasons) + ".", []
+        return "The model does not describe the data: " + "; ".join(_misfit_words(m)) + ".", []
 
     def _budget_lines(self) -> list:
         """The uncertainty budget as a table: one row per parameter, one column per term."""
