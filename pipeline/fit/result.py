@@ -40,9 +40,10 @@ def kind_of(name: str) -> str:
     return "per record" if index.isdigit() and base else "contact"
 
 
-def _misfit_words(m) -> list:
+def _misfit_words(m, records=()) -> list:
     """What failed the misfit test (:class:`pipeline.fit.procedure.Misfit`), its numbers
-    at a reader's precision."""
+    at a reader's precision; a campaign's channels (``"3:Ft"``) named by their record's
+    name in ``records``."""
     out = []
     if any(r.startswith("χ²_ν") for r in m.reasons):
         out.append(
@@ -51,7 +52,12 @@ def _misfit_words(m) -> list:
         )
     runs = [k for k in m.runs_z if any(r.startswith(f"{k} residual") for r in m.reasons)]
     if runs:
-        z = ", ".join(f"{k} z = {precision.plain(m.runs_z[k], 3)}" for k in runs)
+
+        def name(key):
+            i, _, ch = key.rpartition(":")
+            return f"{records[int(i)]} {ch}" if i.isdigit() and int(i) < len(records) else key
+
+        z = ", ".join(f"{name(k)} z = {precision.plain(m.runs_z[k], 3)}" for k in runs)
         out.append(f"the residual signs run in long stretches ({z})")
     return out or list(m.reasons)
 
@@ -394,7 +400,8 @@ class FitResult:
                 f"(χ²_ν = {m.redchi:.3g}).",
                 [],
             )
-        return "The model does not describe the data: " + "; ".join(_misfit_words(m)) + ".", []
+        words = _misfit_words(m, getattr(self, "records", ()))
+        return "The model does not describe the data: " + "; ".join(words) + ".", []
 
     def _budget_lines(self) -> list:
         """The uncertainty budget as a table: one row per parameter, one column per term."""
