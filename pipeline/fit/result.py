@@ -342,7 +342,7 @@ class FitResult:
             the parameter on one side only; the interval at ``level`` (:meth:`ci`), and
             each budget term's share of the total variance [%]. ``attrs["verdict"]``
             states the verdict in a sentence, ``attrs["details"]`` what stands behind it.
-            Every digit stays in :meth:`summary`.
+            Every digit stays in ``summary()``.
         """
         budget = self.budget
         ci, se = self.ci(level), self.stderr
