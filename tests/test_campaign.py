@@ -22,7 +22,17 @@ import pytest
 from _rig import GR_RIG
 
 from pipeline import Scene
-from pipeline.campaigns import campaign, plan, record_files, table_of, trends, write_campaign
+from pipeline.campaigns import (
+    Gathered,
+    assemble,
+    campaign,
+    plan,
+    record_files,
+    run_record,
+    table_of,
+    trends,
+    write_campaign,
+)
 from pipeline.errors import InputError
 from pipeline.io import write_sensor
 
@@ -337,6 +347,23 @@ def test_dask_run_is_byte_identical_to_serial(lab, tmp_path):
         nbformat.read(tmp_path / "here" / report, as_version=4),
         nbformat.read(tmp_path / "dask" / report, as_version=4),
     )
+
+
+def test_results_gathered_in_any_order_give_the_same_dataset(lab, tmp_path):
+    """A cluster returns records in any order, and a campaign gathers them as columns as
+    they come (it never holds them all as result objects): gathered last to first, good
+    and failed records alike, they give the Dataset of the ordered list, byte for byte."""
+    folder, _ = lab
+    tasks = plan(folder, fit=False, n_boot=20)
+    results = [run_record(t) for t in tasks]
+    assert {r.status for r in results} == {"ok", "failed"}
+    gathered = Gathered(len(tasks))
+    for i in reversed(range(len(tasks))):
+        gathered.add(i, results[i])
+    a, b = tmp_path / "ordered.nc", tmp_path / "reversed.nc"
+    assemble(tasks, results).to_netcdf(a, engine="h5netcdf")
+    assemble(tasks, gathered).to_netcdf(b, engine="h5netcdf")
+    assert a.read_bytes() == b.read_bytes()
 
 
 @pytest.mark.slow

@@ -65,9 +65,9 @@ from ..analysis import analyse
 from ..errors import InputError
 from ..notebook_report import ReportWarning
 from .batch import analyse_tasks
-from .dataset import assemble, table_of, trends, with_trends, write_campaign
+from .dataset import Gathered, assemble, table_of, trends, with_trends, write_campaign
 from .joint import joint_fit, with_joint_fit
-from .run import run_tasks
+from .run import iter_results, run_tasks
 from .tasks import (
     FIT_PARAMETERS,
     OUTCOMES,
@@ -88,7 +88,9 @@ __all__ = [
     "run_record",
     "record_numbers",
     "run_tasks",
+    "iter_results",
     "assemble",
+    "Gathered",
     "trends",
     "with_trends",
     "table_of",
@@ -182,32 +184,41 @@ def campaign(
         report_html=report_html,
         **options,
     )
+    gathered = Gathered(len(tasks))
     if batched:
-        results = analyse_tasks(tasks, progress=progress)
+        for i, r in enumerate(analyse_tasks(tasks, progress=progress)):
+            gathered.add(i, r)
     else:
-        results = run_tasks(
+        for i, r in iter_results(
             tasks, run_record, workers=workers, scheduler=scheduler, progress=progress
-        )
+        ):
+            gathered.add(i, r)
     if reports is not None:
-        _check_reports(tasks, results)
-    ds = assemble(tasks, results)
+        _check_reports(tasks, gathered)
+    ds = assemble(tasks, gathered)
     ds.attrs["source"] = _label(paths)
     ds = with_trends(ds)
     return with_joint_fit(ds, tasks) if fit else ds
 
 
-def _check_reports(tasks, results) -> None:
+def _check_reports(tasks, gathered) -> None:
     """A :class:`ReportWarning` for each analysed record whose report is missing: one that
     failed, or one written where this process cannot read it (a worker's own disk)."""
-    for task, r in zip(tasks, results, strict=True):
-        if r.status != "ok":
+    for task, name, status, error in zip(
+        tasks,
+        gathered.result("name"),
+        gathered.result("status"),
+        gathered.result("report_error"),
+        strict=True,
+    ):
+        if status != "ok":
             continue
         path = Path(task.report) / f"{Path(task.name).stem}.ipynb"
-        if r.report_error:
-            warnings.warn(f"{r.name}: no report: {r.report_error}", ReportWarning, stacklevel=3)
+        if error:
+            warnings.warn(f"{name}: no report: {error}", ReportWarning, stacklevel=3)
         elif not path.is_file():
             warnings.warn(
-                f"{r.name}: its report is not at {path}: the worker wrote it on a disk of its "
+                f"{name}: its report is not at {path}: the worker wrote it on a disk of its "
                 "own; give an output folder on the file system the workers share",
                 ReportWarning,
                 stacklevel=3,

@@ -23,7 +23,7 @@ from ..scene import Scene
 from ..score import METRICS, PHASES
 from .tasks import FIT_PARAMETERS, OUTCOMES, RecordResult, RecordTask, task_fields
 
-__all__ = ["assemble", "trends", "with_trends", "table_of", "write_campaign"]
+__all__ = ["assemble", "Gathered", "trends", "with_trends", "table_of", "write_campaign"]
 
 #: Per-record numbers besides the outcomes: name → (units, long name).
 _NUMBERS = {
@@ -57,17 +57,82 @@ _LONG = {
 }
 
 
-def assemble(tasks: list[RecordTask], results: list[RecordResult]) -> xr.Dataset:
-    """The campaign Dataset from tasks and their results (in the same order)."""
-    n = len(results)
-    names = [r.name for r in results]
+class Gathered:
+    """The per-record results of a campaign gathered as columns, as they arrive.
 
-    def num(key):
-        return np.array([r.numbers.get(key, np.nan) for r in results], dtype=float)
+    A :class:`~pipeline.campaigns.tasks.RecordResult` holds its numbers and strings in
+    dictionaries (~13 kB a record in memory); gathered here they are one float in an array
+    per number and one shared string object per distinct text (~2 kB a record), so that a
+    campaign of many records holds its results in little more memory than its Dataset.
+
+    Parameters
+    ----------
+    n : int — records of the campaign
+    """
+
+    def __init__(self, n: int):
+        self.n = int(n)
+        self.numbers: dict[str, np.ndarray] = {}
+        self.texts: dict[str, np.ndarray] = {}
+        self._strings: dict[str, str] = {}
+
+    def _text(self, key: str) -> np.ndarray:
+        if key not in self.texts:
+            self.texts[key] = np.full(self.n, "", dtype=object)
+        return self.texts[key]
+
+    def add(self, i: int, r: RecordResult) -> None:
+        """Record ``r`` as the ``i``-th result."""
+        row = {
+            "name": r.name,
+            "status": r.status,
+            "reason": r.reason,
+            "warnings": "\n".join(r.warnings),
+            "report_error": r.report_error,
+        }
+        for k, v in row.items():
+            self._text(f"result:{k}")[i] = self._strings.setdefault(v, v)
+        for k, v in r.texts.items():
+            self._text(k)[i] = self._strings.setdefault(v, v)
+        for k, v in r.numbers.items():
+            if k not in self.numbers:
+                self.numbers[k] = np.full(self.n, np.nan)
+            self.numbers[k][i] = v
+
+    @classmethod
+    def of(cls, results) -> Gathered:
+        """The results of a list, in order."""
+        g = cls(len(results))
+        for i, r in enumerate(results):
+            g.add(i, r)
+        return g
+
+    def number(self, key: str) -> np.ndarray:
+        """The number ``key`` of every record (NaN where a record has none)."""
+        return self.numbers[key].copy() if key in self.numbers else np.full(self.n, np.nan)
+
+    def text(self, key: str) -> np.ndarray:
+        """The text ``key`` of every record (``""`` where a record has none)."""
+        return self.texts[key].copy() if key in self.texts else np.full(self.n, "", dtype=object)
+
+    def result(self, key: str) -> np.ndarray:
+        """``name``, ``status``, ``reason``, ``warnings`` (one a line) or ``report_error``
+        of every record."""
+        return self.text(f"result:{key}")
+
+
+def assemble(tasks: list[RecordTask], results) -> xr.Dataset:
+    """The campaign Dataset from tasks and their results (a list in the same order, or a
+    :class:`Gathered`)."""
+    g = results if isinstance(results, Gathered) else Gathered.of(results)
+    n = g.n
+    names = list(g.result("name"))
+    status = g.result("status")
+    num = g.number
 
     angle, speed, v_t0 = num("angle"), num("speed"), num("v_t0")
     for i, t in enumerate(tasks):  # failed records still get their coordinates if known
-        if results[i].status != "ok":
+        if status[i] != "ok":
             try:
                 s = Scene.from_dict(task_fields(t)[0])
                 angle[i], speed[i], v_t0[i] = s.angle_deg, s.speed, s.v_t0
@@ -85,15 +150,15 @@ def assemble(tasks: list[RecordTask], results: list[RecordResult]) -> xr.Dataset
             "metric": ("metric", np.array(METRICS, dtype=object)),
         }
     )
-    ds["status"] = ("record", np.array([r.status for r in results], dtype=object))
-    ds["reason"] = ("record", np.array([r.reason for r in results], dtype=object))
+    ds["status"] = ("record", status)
+    ds["reason"] = ("record", g.result("reason"))
     ds["warnings"] = (
         "record",
-        np.array(["\n".join(r.warnings) for r in results], dtype=object),
+        g.result("warnings"),
         {"long_name": "the library's warnings for the record, one a line"},
     )
     for k in _TEXTS:
-        ds[k] = ("record", np.array([r.texts.get(k, "") for r in results], dtype=object))
+        ds[k] = ("record", g.text(k))
     for k, units in OUTCOMES.items():
         ds[k] = ("record", num(k), {"units": units, "long_name": _LONG[k]})
         ds[f"{k}_std"] = (
@@ -112,11 +177,11 @@ def assemble(tasks: list[RecordTask], results: list[RecordResult]) -> xr.Dataset
             arr.reshape(n, len(PHASES), len(METRICS)),
             {"units": "1", "long_name": f"{long} against Routh's broken line (pipeline.score)"},
         )
-    fitted = sorted({k for r in results for k in r.numbers if k.startswith("fit_")})
+    fitted = sorted(k for k in g.numbers if k.startswith("fit_"))
     for k in fitted:
         base = k.removeprefix("fit_").removesuffix("_std")
         ds[k] = ("record", num(k), {"units": FIT_PARAMETERS.get(base, "1")})
-    n_failed = int(sum(r.status != "ok" for r in results))
+    n_failed = int(np.sum(status != "ok"))
     ds.attrs.update(
         {
             "title": "pipeline campaign",

@@ -15,6 +15,7 @@ import json
 import logging
 import math
 import warnings
+from collections.abc import Sequence
 
 from .._json import json_ready
 from ..errors import InputError, PipelineWarning
@@ -43,7 +44,7 @@ def joint_fit(tasks, ds, **options) -> dict | None:
     ok = [t for t, s in zip(tasks, ds["status"].values, strict=True) if s == "ok"]
     if len(ok) < 2:
         return None
-    records = [load_sample(t.path) for t in ok]
+    records = _Records([t.path for t in ok])  # read one at a time, by the fit
     scenes = [
         Scene.from_dict(json.loads(str(j)))
         for j, s in zip(ds["scene_json"].values, ds["status"].values, strict=True)
@@ -63,6 +64,20 @@ def joint_fit(tasks, ds, **options) -> dict | None:
             "compare": table.to_dict("records"),
         }
     )
+
+
+class _Records(Sequence):
+    """The records of files, each read when asked for (:func:`pipeline.report.load_sample`):
+    the joint fit reads each once and keeps only what it fits."""
+
+    def __init__(self, paths):
+        self.paths = list(paths)
+
+    def __len__(self) -> int:
+        return len(self.paths)
+
+    def __getitem__(self, i):
+        return load_sample(self.paths[i])
 
 
 def with_joint_fit(ds, tasks, **options):

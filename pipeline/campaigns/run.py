@@ -2,10 +2,13 @@
 
 Each task is a pure function of its :class:`~pipeline.campaigns.tasks.RecordTask`, so the
 results gathered from a cluster, put back in task order, equal the serial ones. Records go
-to the cluster in chunks (:data:`CHUNKS_PER_WORKER` per worker), so that a record's ~20 ms
-is not eaten by the scheduler's round trip. A worker that cannot write the output (a
-full disk: :class:`~pipeline.errors.OutputError`) ends the run with the same one-line
-error as this process would.
+to the cluster in chunks (:data:`CHUNKS_PER_WORKER` per worker, at most
+:data:`MAX_CHUNK` records each), so that a record's ~20 ms is not eaten by the scheduler's
+round trip, and a chunk's results are handed on as soon as they arrive and released on the
+cluster: no process holds more than a few chunks' results at a time, whatever the number of
+records (:func:`iter_results`). A worker that cannot write the output (a full disk:
+:class:`~pipeline.errors.OutputError`) ends the run with the same one-line error as this
+process would.
 """
 
 from __future__ import annotations
@@ -15,11 +18,14 @@ import logging
 
 from ..errors import InputError, OutputError
 
-__all__ = ["run_tasks", "local_cluster", "CHUNKS_PER_WORKER"]
+__all__ = ["run_tasks", "iter_results", "local_cluster", "CHUNKS_PER_WORKER", "MAX_CHUNK"]
 
 #: Chunks of records per worker: enough to balance uneven records, few enough that the
 #: scheduler's per-task cost (~ms) stays small against the work.
 CHUNKS_PER_WORKER = 2
+#: Most records in one chunk (a chunk's results wait on its worker until all are done:
+#: ~13 kB a record).
+MAX_CHUNK = 50
 
 
 def local_cluster(workers: int):
@@ -72,14 +78,23 @@ def _results(part) -> list:
 
 def run_tasks(tasks, fn, *, workers=None, scheduler=None, progress=None) -> list:
     """``[fn(t) for t in tasks]``, serially or as dask.distributed tasks, in task order."""
+    out = [None] * len(tasks)
+    for i, r in iter_results(tasks, fn, workers=workers, scheduler=scheduler, progress=progress):
+        out[i] = r
+    return out
+
+
+def iter_results(tasks, fn, *, workers=None, scheduler=None, progress=None):
+    """``(i, fn(tasks[i]))`` for every task, as they complete (in task order when serial),
+    serially or as dask.distributed tasks (module notes); ``progress`` is called with each
+    result."""
     if scheduler is None and not workers:
-        out = []
-        for t in tasks:
+        for i, t in enumerate(tasks):
             r = fn(t)
-            out.append(r)
             if progress is not None:
                 progress(r)
-        return out
+            yield i, r
+        return
     try:
         from distributed import Client, as_completed
     except ImportError:
@@ -99,23 +114,26 @@ def run_tasks(tasks, fn, *, workers=None, scheduler=None, progress=None) -> list
             raise InputError(f"workers must be ≥ 1, got {workers}")
         cluster = local_cluster(workers)
         client = Client(cluster)
-    futures = []
+    futures = {}
     hushed = contextlib.nullcontext()
     try:
         n_workers = max(1, len(client.scheduler_info().get("workers", {})))
-        size = max(1, -(-len(tasks) // (CHUNKS_PER_WORKER * n_workers)))
-        chunks = [tasks[i : i + size] for i in range(0, len(tasks), size)]
-        futures = [client.submit(_run_chunk, fn, c, pure=False) for c in chunks]
-        if progress is not None:
-            for f in as_completed(futures):
-                for r in _results(f.result()):
+        size = max(1, min(MAX_CHUNK, -(-len(tasks) // (CHUNKS_PER_WORKER * n_workers))))
+        for a in range(0, len(tasks), size):
+            futures[client.submit(_run_chunk, fn, tasks[a : a + size], pure=False)] = a
+        for f in as_completed(list(futures)):
+            part = _results(f.result())
+            a = futures.pop(f)
+            f.release()  # its results leave the cluster's memory
+            for k, r in enumerate(part):
+                if progress is not None:
                     progress(r)
-        return [r for part in client.gather(futures) for r in _results(part)]
+                yield a + k, r
     except BaseException:  # the run ends here: the chunks still running are cancelled
         if cluster is not None:
             hushed = _hushed(client)
         with contextlib.suppress(Exception):
-            client.cancel(futures)
+            client.cancel(list(futures))
         raise
     finally:
         with hushed:
