@@ -24,6 +24,7 @@ from pipeline.errors import InputError, PipelineWarning
 from pipeline.fit import store
 from pipeline.fit.forward import RecordData
 from pipeline.fit.procedure import MisfitPart, misfit_of
+from pipeline.fit.result import _misfit_words
 from pipeline.sensor_model import to_sensor
 from pipeline.simulate import impact
 from pipeline.window import ContactWindow
@@ -219,8 +220,8 @@ def test_the_joint_fit_reads_a_lazy_sequence_once_and_keeps_no_record(constant_e
 
 def test_misfit_over_many_records_names_the_worst_channels():
     """A campaign's misfit test names the four channels whose residual signs run worst and
-    counts the others (one line, not one per channel); χ²_ν and its z are those of all
-    records together."""
+    counts the others (one line, not one per channel), and so does a report's verdict;
+    χ²_ν and its z are those of all records together."""
     parts = [
         MisfitPart(1000.0, (500, 500), (0, 0), (("Fn", -3.0 - i), ("Ft", 0.5))) for i in range(10)
     ]
@@ -231,3 +232,6 @@ def test_misfit_over_many_records_names_the_worst_channels():
     )
     assert m.reasons[4] == "and 6 more of the 20 channels' residual signs run in long stretches"
     assert len(m.runs_z) == 20
+    words = _misfit_words(m, tuple(f"rec{i}" for i in range(10)))[-1]  # a report's verdict
+    assert "rec9 Fn z = " in words and "rec5 Fn" not in words
+    assert words.endswith("; and in 6 more of the 20 channels)")

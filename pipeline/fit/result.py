@@ -25,6 +25,7 @@ from scipy import special
 from .. import precision
 from .._json import json_ready
 from .forward import SYSTEMATIC_PARAMS, UNITS
+from .procedure import MISFIT_Z
 from .uncertainty import normal_interval, one_sided_bound, percentile_interval
 
 __all__ = ["FitResult", "kind_of"]
@@ -58,6 +59,9 @@ def _misfit_words(m, records=()) -> list:
             return f"{records[int(i)]} {ch}" if i.isdigit() and int(i) < len(records) else key
 
         z = ", ".join(f"{name(k)} z = {precision.plain(m.runs_z[k], 3)}" for k in runs)
+        long = sum(1 for v in m.runs_z.values() if np.isfinite(v) and v < -MISFIT_Z)
+        if long > len(runs):  # a campaign's misfit names its worst channels only
+            z += f"; and in {long - len(runs)} more of the {len(m.runs_z)} channels"
         out.append(f"the residual signs run in long stretches ({z})")
     return out or list(m.reasons)
 
