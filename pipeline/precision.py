@@ -60,6 +60,7 @@ __all__ = [
     "as_text",
     "plain_quantities",
     "model_words",
+    "hypothesis_words",
 ]
 
 #: Significant digits of a number shown without an uncertainty.
@@ -151,6 +152,20 @@ MODEL_WORDS = {
     "none": "no friction",
     "rigid": "rigid",
 }
+
+
+#: A campaign's hypotheses in words (:func:`hypothesis_words`; pipeline.fit_campaign).
+HYPOTHESIS_WORDS = {
+    "constant": "μ constant",
+    "linear_vt0": "μ = μ_a + μ_b·v_t0",
+    "constant_e": "e constant",
+    "constant_alpha": "α constant (e falls with speed)",
+}
+
+
+def hypothesis_words(mu_law: str, damping: str) -> str:
+    """A campaign fit's hypothesis in words: ``"μ = μ_a + μ_b·v_t0, e constant"``."""
+    return f"{HYPOTHESIS_WORDS.get(mu_law, mu_law)}, {HYPOTHESIS_WORDS.get(damping, damping)}"
 
 
 def model_words(name) -> str:
@@ -408,28 +423,33 @@ _TABLE_CSS = [
 SHARES = "share of the variance [%]"
 
 
-def styled(df, *, caption=None, uuid: str = "t"):
-    """A table as a pandas Styler for HTML: the caption (default its ``attrs["verdict"]``)
-    on top; a parameter table (:func:`parameter_table`) without its index of the results'
-    names and its budget's shares under one header; no index name. ``uuid`` names its HTML
-    ids, so the same table gives the same HTML wherever it is made (a report rendered and
-    the same report run again in a kernel)."""
+def _laid_out(df):
+    """``(df, index shown)``: a parameter table's budget shares under one header (a column
+    level ``SHARES``), its index of the results' names hidden where the quantities name the
+    rows (or nothing does: a range index), no index or column names."""
     import pandas as pd
 
-    caption = df.attrs.get("verdict", "") if caption is None else caption
+    df = df.copy()
     shares = [c for c in df.columns if str(c).endswith(" [%]")]
+    named = "quantity" in df.columns
     if shares:
-        df = df.copy()
         df.columns = pd.MultiIndex.from_tuples(
             [(SHARES, c.removesuffix(" [%]")) if c in shares else ("", c) for c in df.columns]
         )
-    st = df.style.set_uuid(uuid).set_table_styles(_TABLE_CSS).hide(axis="index", names=True)
-    if (
-        "quantity" in df.columns
-        or ("", "quantity") in df.columns
-        or isinstance(df.index, pd.RangeIndex)
-    ):
-        st = st.hide(axis="index")  # the quantity's symbol names the row, or nothing does
+    df.index.name = None
+    df.columns.name = None
+    return df, not (named or isinstance(df.index, pd.RangeIndex))
+
+
+def styled(df, *, caption=None, uuid: str = "t"):
+    """A table as a pandas Styler for HTML, laid out as :func:`html_table` lays it out,
+    with its caption (default its ``attrs["verdict"]``) on top. ``uuid`` names its HTML
+    ids, so the same table gives the same HTML wherever it is made."""
+    caption = df.attrs.get("verdict", "") if caption is None else caption
+    laid, index = _laid_out(df)
+    st = laid.style.set_uuid(uuid).set_table_styles(_TABLE_CSS)
+    if not index:
+        st = st.hide(axis="index")
     if caption:
         st = st.set_caption(caption)
     return st
@@ -437,23 +457,12 @@ def styled(df, *, caption=None, uuid: str = "t"):
 
 def html_table(df, uuid: str = "t") -> str:
     """A table as light HTML (``DataFrame.to_html``: no per-cell ids or classes, which
-    keeps a report's page quick to write), laid out as :func:`styled` lays it out: a
-    parameter table without its index and with its budget's shares under one header, no
-    index name; ``id="T_<uuid>"`` and class ``pipeline-table`` (the reports' page styles it:
+    keeps a report's page quick to write): a parameter table (:func:`parameter_table`)
+    without its index of the results' names and with its budget's shares under one
+    header; ``id="T_<uuid>"`` and class ``pipeline-table`` (the reports' page styles it:
     ``templates/html``)."""
-    import pandas as pd
-
-    df = df.copy()
-    shares = [c for c in df.columns if str(c).endswith(" [%]")]
-    if shares:
-        df.columns = pd.MultiIndex.from_tuples(
-            [(SHARES, c.removesuffix(" [%]")) if c in shares else ("", c) for c in df.columns]
-        )
-    index = "quantity" not in df.columns and ("", "quantity") not in df.columns
-    index = index and not isinstance(df.index, pd.RangeIndex)
-    df.index.name = None
-    df.columns.name = None
-    return df.to_html(
+    laid, index = _laid_out(df)
+    return laid.to_html(
         index=index, border=0, classes="pipeline-table", table_id=f"T_{uuid}", escape=True
     )
 

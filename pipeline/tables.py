@@ -28,7 +28,16 @@ import pandas as pd
 
 from . import precision
 from .fit.result import kind_of
-from .precision import bound, in_unit, pdg, plain, quantity, rounded
+from .precision import (
+    HYPOTHESIS_WORDS,
+    bound,
+    hypothesis_words,
+    in_unit,
+    pdg,
+    plain,
+    quantity,
+    rounded,
+)
 from .score import NEAR_ZERO
 
 __all__ = [
@@ -449,8 +458,6 @@ def joint_table(ds) -> pd.DataFrame:
         if isinstance(v, (int, float)) and kind_of(k) == "contact"
     ]
     hyp = jf.get("hypothesis", {})
-    words = {"linear_vt0": "μ = μ_a + μ_b·v_t0", "constant": "μ constant"}
-    damping = {"constant_e": "e constant", "constant_alpha": "α constant"}
     chosen = next(
         (
             c
@@ -460,8 +467,7 @@ def joint_table(ds) -> pd.DataFrame:
         {},
     )
     verdict = (
-        f"{words.get(hyp.get('mu_law'), hyp.get('mu_law'))}, "
-        f"{damping.get(hyp.get('damping'), hyp.get('damping'))}: the best of "
+        f"{hypothesis_words(hyp.get('mu_law'), hyp.get('damping'))}: the best of "
         f"{len(jf.get('compare', []))} hypotheses by AIC"
         + (f", χ²_ν = {plain(chosen['redchi'], 3)}" if chosen.get("redchi") is not None else "")
     )
@@ -471,8 +477,8 @@ def joint_table(ds) -> pd.DataFrame:
     if not compare.empty:
         compare = pd.DataFrame(
             {
-                "μ law": compare["mu_law"].map(lambda x: words.get(x, x)),
-                "damping": compare["damping"].map(lambda x: damping.get(x, x)),
+                "μ law": compare["mu_law"].map(lambda x: HYPOTHESIS_WORDS.get(x, x)),
+                "damping": compare["damping"].map(lambda x: HYPOTHESIS_WORDS.get(x, x)),
                 "k": compare["k"],
                 "χ²_ν": compare["redchi"].map(lambda x: plain(x, 3)),
                 "ΔAIC": compare["delta_aic"].map(lambda x: plain(x, 3)),

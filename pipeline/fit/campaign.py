@@ -53,7 +53,7 @@ import numpy as np
 from .._json import json_ready
 from ..contact import NORMAL_LAWS
 from ..errors import InputError, PipelineWarning, PoorFitWarning
-from ..precision import plain
+from ..precision import hypothesis_words, plain
 from ..scene import Scene
 from .blocks import solve_blocks
 from .contact import DEFAULT_VARY, _start, e_of_alpha, fit_model
@@ -295,14 +295,14 @@ class CampaignFit(FitResult):
     def _verdict_words(self) -> tuple:
         """(the verdict in a sentence, [the hypotheses compared]) (:meth:`table`)."""
         text, details = super()._verdict_words()
-        hyp = _hypothesis_words(self.mu_law, self.damping)
+        hyp = hypothesis_words(self.mu_law, self.damping)
         text = f"Joint fit of {len(self.records)} records ({hyp}): " + text[0].lower() + text[1:]
         if len(self.hypotheses) > 1:
             df = self.compare()
             best = df.iloc[0]
             gap = f", ΔAIC = {plain(df['delta_aic'].iloc[1], 3)} to the next" if len(df) > 1 else ""
             details = [
-                f"best hypothesis by AIC: {_hypothesis_words(best['mu_law'], best['damping'])}"
+                f"best hypothesis by AIC: {hypothesis_words(best['mu_law'], best['damping'])}"
                 + gap,
                 *details,
             ]
@@ -359,19 +359,6 @@ class CampaignFit(FitResult):
             ds[k].attrs["units"] = units.get(k, "1")
         ds.attrs["summary_json"] = json.dumps(self.summary(), allow_nan=False)
         return ds
-
-
-#: The campaign's hypotheses in words (:meth:`CampaignFit.table`).
-_LAW_WORDS = {
-    "constant": "constant",
-    "linear_vt0": "= μ_a + μ_b·v_t0",
-    "constant_e": "e constant",
-    "constant_alpha": "α constant (e falls with speed)",
-}
-
-
-def _hypothesis_words(mu_law: str, damping: str) -> str:
-    return f"μ {_LAW_WORDS.get(mu_law, mu_law)}, {_LAW_WORDS.get(damping, damping)}"
 
 
 def _as_list(x, n, what):
