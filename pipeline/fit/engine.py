@@ -112,7 +112,9 @@ class Problem:
         res, Jls, sols = local_jacobians(self.model, self.datas, Ps, active)
         self.solutions = sols
         J_all = [
-            np.einsum("bln,blv->bnv", Jl[:, act], D[:, act, :])
+            Jl[:, sel].transpose(0, 2, 1)
+            if (sel := _selection(D)) is not None
+            else np.einsum("bln,blv->bnv", Jl[:, act], D[:, act, :])
             for Jl, act, D in zip(Jls, active, dP, strict=True)
         ]
         r, J = np.concatenate(res, axis=1), np.concatenate(J_all, axis=1)
@@ -155,6 +157,18 @@ class Problem:
         """The model's solution of each record at θ (kept from the last evaluation there)."""
         self.residual(theta)
         return self._last[3]
+
+
+def _selection(D):
+    """The local parameter each varied one is, where ∂P/∂θ (B, p_local, n_vary) only picks
+    them out (0/1, one per column, alike in every row: one record's identity design), else
+    None — the chain rule is then a gather, not a product."""
+    nz = D[0] != 0
+    if not (np.all(nz.sum(axis=0) == 1) and np.all(D[0][nz] == 1.0)):
+        return None
+    if D.shape[0] > 1 and not np.array_equal(D, np.broadcast_to(D[:1], D.shape)):
+        return None
+    return np.argmax(nz, axis=0)
 
 
 def local_jacobians(model, datas, Ps, active):

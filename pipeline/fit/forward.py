@@ -51,7 +51,7 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.signal import sosfilt
+from scipy.signal import lfilter, sosfilt
 
 from ..errors import InputError
 from ..record import channel
@@ -130,6 +130,8 @@ UNITS = {
     "v_y": "m/s",
 }
 _I = {name: i for i, name in enumerate(PARAMS)}
+#: The analytic parameters that mix the axes (their derivatives: :meth:`ForwardModel._dmix`).
+_MIXING = ("gain_n", "gain_t", "leak", "leak_tn")
 #: Local parameters whose derivatives the forward model gives in closed form (they scale,
 #: stretch, shift or mix the pulse: no new tangential solution); the others by differences.
 ANALYTIC = ("E_eff", "t0", "mass", "radius", "gain_n", "gain_t", "leak", "leak_tn", "time_base")
@@ -669,12 +671,12 @@ class ForwardModel:
             rates.append(None)
         return (out[0], out[1], rates[0], rates[1]) if nderiv else (out[0], out[1])
 
-    def _forces(self, data, P, sol, t, names, nderiv, analytic=ANALYTIC):
+    def _forces(self, data, P, sol, t, names, nderiv, analytic=ANALYTIC, scales=None):
         """Measured-axis forces at instants ``t`` (before the filter), one (C, n) array per
         name, and for the first ``nderiv`` columns their derivatives with respect to the
         ``analytic`` parameters (of :data:`ANALYTIC`), one (nderiv, len(analytic), n) array
-        per name."""
-        ds, T, Fs, v0 = self.scales(data, P)
+        per name; ``scales``: :meth:`scales` of ``P`` where already computed."""
+        ds, T, Fs, v0 = self.scales(data, P) if scales is None else scales
         t0 = P[:, _I["t0"]][:, None]
         tau = (t[None, :] - t0) / T[:, None]
         need_t = "Ft" in names or (data.sensor.crosstalk is not None and self.tangential != "none")
@@ -686,9 +688,8 @@ class ForwardModel:
         b = slice(0, nderiv)
         Pb = P[b]
         E, mass, radius = (Pb[:, _I[k]][:, None] for k in ("E_eff", "mass", "radius"))
-        mfrac = data.m_eff_of(mass) / mass  # ∂ln m*/∂ln m
-        rfrac = data.R_eff_of(radius) / radius  # ∂ln R*/∂ln R
         Tb, Fb, tb = T[b, None], Fs[b, None], tau[b]
+        want = [a for a in analytic if a not in _MIXING]
         parts = {}
         for key, f, r in (("n", fn, res[2]), ("t", ft, res[3])):
             if f is None:
@@ -697,20 +698,26 @@ class ForwardModel:
             rate = Fb * r  # dF/dτ [N]
             stretch = rate * tb  # the response to stretching the time scale
             # F = Fs·f((t − t0)/T) with Fs ∝ m*^{3/5} v0^{6/5} K^{2/5} and T ∝ m*^{2/5}
-            # v0^{-1/5} K^{-2/5} (module notes), K ∝ E*·√R*
-            dlnK = 0.4 * (f[b] + stretch)
-            parts[key] = {
-                "E_eff": dlnK / E,
-                "t0": -rate / Tb,
-                "mass": (0.6 * f[b] - 0.4 * stretch) * mfrac / mass,
-                "radius": dlnK * 0.5 * rfrac / radius,
-                "time_base": -stretch / (1.0 + Pb[:, _I["time_base"]][:, None]),
-            }
+            # v0^{-1/5} K^{-2/5} (module notes), K ∝ E*·√R*; only the ones asked for
+            dlnK = 0.4 * (f[b] + stretch) if {"E_eff", "radius"} & set(want) else None
+            part = {}
+            for a in want:
+                if a == "E_eff":
+                    part[a] = dlnK / E
+                elif a == "t0":
+                    part[a] = -rate / Tb
+                elif a == "mass":
+                    part[a] = (0.6 * f[b] - 0.4 * stretch) * (data.m_eff_of(mass) / mass) / mass
+                elif a == "radius":  # ∂ln R*/∂ln R = R*/R
+                    part[a] = dlnK * 0.5 * (data.R_eff_of(radius) / radius) / radius
+                else:  # time_base
+                    part[a] = -stretch / (1.0 + Pb[:, _I["time_base"]][:, None])
+            parts[key] = part
         out = []
         for name in names:
             cols = []
             for a in analytic:
-                if a in ("gain_n", "gain_t", "leak", "leak_tn"):
+                if a in _MIXING:
                     cols.append(self._dmix(data.sensor.crosstalk, Pb, fn[b], ft, name, a))
                     continue
                 dn, dt = parts["n"][a], None if parts["t"] is None else parts["t"][a]
@@ -743,25 +750,26 @@ class ForwardModel:
         hi = min(int(np.searchsorted(fine, (t0 + tc).max())) + 1, fine.size)
         lo -= lo % data.oversample  # start on a sample instant
         step = fine[1] - fine[0] if fine.size > 1 else 1.0
-        ring = data.sensor.ring_time(float(np.nanmin(np.where(np.isfinite(bw), bw, np.nan))))
+        row_bw = bw.tolist()
+        ring = data.sensor.ring_time(min(b for b in row_bw if math.isfinite(b)))
         end = min(fine.size, hi + int(math.ceil(ring / step)) + 1)
-        m, d = self._forces(data, P, sol, fine[lo:hi], names, nderiv, analytic)
+        m, d = self._forces(data, P, sol, fine[lo:hi], names, nderiv, analytic, (ds, T, Fs, v0))
         ncol, nch, na = P.shape[0], len(names), len(analytic)
         # rows: every channel's columns, then every channel's derivative rows; each row
         # keeps the bandwidth of its column
         rows = list(m) + ([x.reshape(-1, x.shape[-1]) for x in d] if nderiv else [])
-        stack = np.concatenate(rows, axis=0)
-        row_bw = np.concatenate([bw] * nch + ([np.repeat(bw[:nderiv], na)] * nch if nderiv else []))
-        full = np.zeros((stack.shape[0], end - lo))
-        full[:, : hi - lo] = stack
-        filt = np.empty((stack.shape[0], full[:, :: data.oversample].shape[1]))
-        for value in np.unique(row_bw):
-            sel = row_bw == value
-            if np.isfinite(value):
-                sos = data.sensor.sos(step, bandwidth=value)
-                filt[sel] = sosfilt(sos, full[sel], axis=-1)[:, :: data.oversample]
-            else:
-                filt[sel] = full[sel][:, :: data.oversample]
+        row_bw = row_bw * nch + ([b for b in row_bw[:nderiv] for _ in range(na)] * nch)
+        full = np.zeros((len(row_bw), end - lo))
+        np.concatenate(rows, axis=0, out=full[:, : hi - lo])
+        groups = {}  # the rows of each bandwidth
+        for i, b in enumerate(row_bw):
+            groups.setdefault(b, []).append(i)
+        if len(groups) == 1:
+            filt = _filtered(data.sensor, step, row_bw[0], full)[:, :: data.oversample]
+        else:
+            filt = np.empty((full.shape[0], full[:, :: data.oversample].shape[1]))
+            for b, rows_b in groups.items():
+                filt[rows_b] = _filtered(data.sensor, step, b, full[rows_b])[:, :: data.oversample]
         out = np.zeros((filt.shape[0], data.channels[0].t.size))
         k0 = lo // data.oversample
         out[:, k0 : k0 + filt.shape[1]] = filt
@@ -780,19 +788,21 @@ class ForwardModel:
         """The sensor's axes: gains, the known cross-talk matrix C (None: none) and the
         fitted leaks Fn → Ft and Ft → Fn, ``Ft_meas = g_t·(C10·Fn + C11·Ft + leak·Fn)``,
         ``Fn_meas = g_n·(C00·Fn + C01·Ft + leak_tn·Ft)``."""
-        ft0 = np.zeros_like(fn) if ft is None else ft
-        gn = P[: fn.shape[0], _I["gain_n"]][:, None]
-        gt = P[: fn.shape[0], _I["gain_t"]][:, None]
-        leak = P[: fn.shape[0], _I["leak"]][:, None]
-        leak_tn = P[: fn.shape[0], _I["leak_tn"]][:, None]
+        Q = P[: fn.shape[0]]
         out = []
         for n in names:
             if n == "Fn":
-                base = fn if C is None else C[0, 0] * fn + C[0, 1] * ft0
-                out.append(gn * (base + leak_tn * ft0))
+                base = fn if C is None else C[0, 0] * fn
+                if ft is not None:
+                    base = base + (Q[:, _I["leak_tn"], None] + (0.0 if C is None else C[0, 1])) * ft
+                out.append(Q[:, _I["gain_n"], None] * base)
             else:
-                base = ft0 if C is None else C[1, 0] * fn + C[1, 1] * ft0
-                out.append(gt * (base + leak * fn))
+                base = Q[:, _I["leak"], None] * fn
+                if C is not None:
+                    base = base + C[1, 0] * fn
+                if ft is not None:
+                    base = base + (ft if C is None else C[1, 1] * ft)
+                out.append(Q[:, _I["gain_t"], None] * base)
         return out
 
     @staticmethod
@@ -879,6 +889,19 @@ class ForwardModel:
             "Fn": fn[0] * Fs[0],
             "Ft": None if ft is None else ft[0] * Fs[0],
         }
+
+
+def _filtered(spec, step, bandwidth, x):
+    """``x`` (rows, n) on the fine grid of step ``step`` [s] through the sensor's low-pass at
+    ``bandwidth`` [Hz] (none where infinite). One second-order section goes through
+    :func:`scipy.signal.lfilter` as its transfer function (the same recursion, a third of
+    :func:`~scipy.signal.sosfilt`'s overhead), more sections through ``sosfilt``."""
+    if not math.isfinite(bandwidth):
+        return x
+    sos = spec.sos(step, bandwidth=bandwidth)
+    if sos.shape[0] == 1:
+        return lfilter(sos[0, :3], sos[0, 3:], x, axis=-1)
+    return sosfilt(sos, x, axis=-1)
 
 
 def _distinct_rows(a):

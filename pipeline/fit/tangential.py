@@ -236,8 +236,7 @@ def _fundamental(pl: _Pulse, stick: _Stick):
 def _linear_root(lo, hi, g_lo, g_hi):
     """Where the line through (lo, g_lo), (hi, g_hi) crosses zero (g_lo ≤ 0 < g_hi)."""
     den = g_hi - g_lo
-    with np.errstate(divide="ignore", invalid="ignore"):
-        th = np.where(den > 0, -g_lo / np.where(den > 0, den, 1.0), 1.0)
+    th = np.divide(-g_lo, den, out=np.ones_like(den), where=den > 0)
     return lo + np.clip(th, 0.0, 1.0) * (hi - lo)
 
 
