@@ -451,7 +451,9 @@ def _plot(path, result):
         f"({f['fit_over_imports_plain_install']:.2f}× without dask)",
         fontsize=8,
     )
-    fig.suptitle("The honest fit against lmfit + solve_ivp, and the first fit of a process", fontsize=9)
+    fig.suptitle(
+        "The honest fit against lmfit + solve_ivp, and the first fit of a process", fontsize=9
+    )
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=130, format="png")
 
