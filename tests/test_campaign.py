@@ -349,6 +349,22 @@ def test_dask_run_is_byte_identical_to_serial(lab, tmp_path):
     )
 
 
+def test_a_campaign_fitted_on_dask_is_the_serial_one(lab, tmp_path):
+    """With the contact fits and the joint fit (whose evaluations run on the workers too),
+    the 2-worker run's Dataset is the serial one, byte for byte."""
+    pytest.importorskip("distributed")
+    folder, _ = lab
+    files = [folder / "run0_15deg_0.6ms.csv", folder / "run3_60deg_0.3ms.csv"]
+    files.append(folder / "bad_scene.csv")
+    serial = campaign(files, n_boot=20, fit=True)
+    parallel = campaign(files, n_boot=20, fit=True, workers=2)
+    assert "joint_fit_json" in serial.attrs and "joint_E_eff" in serial
+    a, b = tmp_path / "serial.nc", tmp_path / "dask.nc"
+    serial.to_netcdf(a, engine="h5netcdf")
+    parallel.to_netcdf(b, engine="h5netcdf")
+    assert a.read_bytes() == b.read_bytes()
+
+
 def test_results_gathered_in_any_order_give_the_same_dataset(lab, tmp_path):
     """A cluster returns records in any order, and a campaign gathers them as columns as
     they come (it never holds them all as result objects): gathered last to first, good

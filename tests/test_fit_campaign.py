@@ -235,3 +235,23 @@ def test_misfit_over_many_records_names_the_worst_channels():
     words = _misfit_words(m, tuple(f"rec{i}" for i in range(10)))[-1]  # a report's verdict
     assert "rec9 Fn z = " in words and "rec5 Fn" not in words
     assert words.endswith("; and in 6 more of the 20 channels)")
+
+
+def test_the_joint_fit_in_an_executor_is_the_same_fit(constant_e):
+    """The records' chunks evaluated in an executor's workers (one record a chunk, several
+    in flight, each travelling as the store wrote it; a campaign on a cluster hands its
+    client's executor) give the same fit: every value within 1e-9 of its standard error."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    blocks, scenes, recs = constant_e
+    with (
+        warnings.catch_warnings(),
+        pytest.MonkeyPatch.context() as mp,
+        ThreadPoolExecutor(2) as executor,
+    ):
+        warnings.simplefilter("ignore", PipelineWarning)
+        mp.setattr(store, "CHUNK", 1)
+        fit = fit_campaign(recs, scenes, mu_law="linear_vt0", hypotheses="one", executor=executor)
+    assert fit.chi2 == pytest.approx(blocks.chi2, rel=1e-12)
+    for name in ("E_eff", "e", "mu_a", "mu_b", "kt_scale_0", "t0_2"):
+        assert abs(fit.values[name] - blocks.values[name]) < 1e-9 * blocks.stderr[name], name

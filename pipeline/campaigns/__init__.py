@@ -40,9 +40,13 @@ record; the record stays in the Dataset, which is the same with or without repor
 
 Scale-out (``docs/cluster.md``): ``workers=N`` runs the records as tasks on a local
 dask.distributed cluster of N single-threaded worker processes, ``scheduler="tcp://..."``
-(or a ``distributed.Client``) on an existing cluster. Each task is a pure function of the
-record's file and scene, so the gathered Dataset is identical, byte for byte once written,
-to the serial run's. ``batched=True`` analyses the records in this process with the
+(or a ``distributed.Client``) on an existing cluster; the joint fit's evaluations of the
+records run on the same workers (:func:`pipeline.fit_campaign`'s ``executor``). Each task
+is a pure function of the record's file and scene, so the gathered Dataset is identical,
+byte for byte once written, to the serial run's. Results are gathered as columns as they
+arrive (:class:`~pipeline.campaigns.dataset.Gathered`) and the joint fit keeps its records
+on disk (:mod:`pipeline.fit.store`), so no process's memory grows with the records beyond
+a few kB a record. ``batched=True`` analyses the records in this process with the
 bootstrap of all records in one vectorised pass (:mod:`pipeline.campaigns.batch`).
 
 References
@@ -67,7 +71,7 @@ from ..notebook_report import ReportWarning
 from .batch import analyse_tasks
 from .dataset import Gathered, assemble, table_of, trends, with_trends, write_campaign
 from .joint import joint_fit, with_joint_fit
-from .run import iter_results, run_tasks
+from .run import connect, iter_results, run_tasks
 from .tasks import (
     FIT_PARAMETERS,
     OUTCOMES,
@@ -185,20 +189,23 @@ def campaign(
         **options,
     )
     gathered = Gathered(len(tasks))
-    if batched:
-        for i, r in enumerate(analyse_tasks(tasks, progress=progress)):
-            gathered.add(i, r)
-    else:
-        for i, r in iter_results(
-            tasks, run_record, workers=workers, scheduler=scheduler, progress=progress
-        ):
-            gathered.add(i, r)
-    if reports is not None:
-        _check_reports(tasks, gathered)
-    ds = assemble(tasks, gathered)
-    ds.attrs["source"] = _label(paths)
-    ds = with_trends(ds)
-    return with_joint_fit(ds, tasks) if fit else ds
+    with connect(workers=workers, scheduler=scheduler) as client:
+        if batched:
+            for i, r in enumerate(analyse_tasks(tasks, progress=progress)):
+                gathered.add(i, r)
+        else:
+            for i, r in iter_results(tasks, run_record, scheduler=client, progress=progress):
+                gathered.add(i, r)
+        if reports is not None:
+            _check_reports(tasks, gathered)
+        ds = assemble(tasks, gathered)
+        ds.attrs["source"] = _label(paths)
+        ds = with_trends(ds)
+        if not fit:
+            return ds
+        # on a cluster, the joint fit's evaluations run on its workers too
+        on = {} if client is None else {"executor": client.get_executor(pure=False)}
+        return with_joint_fit(ds, tasks, **on)
 
 
 def _check_reports(tasks, gathered) -> None:

@@ -7,6 +7,9 @@ speed), compared by AIC (Garland & Rogers 2009, doi:10.1115/1.3086432; Hunt & Cr
 standard errors as ``joint_<name>`` scalars and every hypothesis' row of
 :meth:`~pipeline.fit.CampaignFit.compare` in ``attrs["joint_fit_json"]``. Where the fitter is not
 installed, or fewer than two records were analysed, the Dataset is returned unchanged.
+The fit reads the records from their files one at a time and keeps them on disk
+(:mod:`pipeline.fit.store`); on a cluster its evaluations run on the workers (the
+``executor`` option of :func:`pipeline.fit_campaign`).
 """
 
 from __future__ import annotations

@@ -18,7 +18,14 @@ import logging
 
 from ..errors import InputError, OutputError
 
-__all__ = ["run_tasks", "iter_results", "local_cluster", "CHUNKS_PER_WORKER", "MAX_CHUNK"]
+__all__ = [
+    "run_tasks",
+    "iter_results",
+    "connect",
+    "local_cluster",
+    "CHUNKS_PER_WORKER",
+    "MAX_CHUNK",
+]
 
 #: Chunks of records per worker: enough to balance uneven records, few enough that the
 #: scheduler's per-task cost (~ms) stays small against the work.
@@ -86,17 +93,54 @@ def run_tasks(tasks, fn, *, workers=None, scheduler=None, progress=None) -> list
 
 def iter_results(tasks, fn, *, workers=None, scheduler=None, progress=None):
     """``(i, fn(tasks[i]))`` for every task, as they complete (in task order when serial),
-    serially or as dask.distributed tasks (module notes); ``progress`` is called with each
-    result."""
+    serially or as dask.distributed tasks (module notes; ``workers`` and ``scheduler`` as
+    :func:`connect`); ``progress`` is called with each result."""
+    with connect(workers=workers, scheduler=scheduler) as client:
+        if client is None:
+            for i, t in enumerate(tasks):
+                r = fn(t)
+                if progress is not None:
+                    progress(r)
+                yield i, r
+            return
+        yield from _distributed(client, tasks, fn, progress)
+
+
+def _distributed(client, tasks, fn, progress):
+    from distributed import as_completed
+
+    futures = {}
+    try:
+        n_workers = max(1, len(client.scheduler_info().get("workers", {})))
+        size = max(1, min(MAX_CHUNK, -(-len(tasks) // (CHUNKS_PER_WORKER * n_workers))))
+        for a in range(0, len(tasks), size):
+            futures[client.submit(_run_chunk, fn, tasks[a : a + size], pure=False)] = a
+        for f in as_completed(list(futures)):
+            part = _results(f.result())
+            a = futures.pop(f)
+            f.release()  # its results leave the cluster's memory
+            for k, r in enumerate(part):
+                if progress is not None:
+                    progress(r)
+                yield a + k, r
+    except BaseException:  # the run ends here: the chunks still running are cancelled
+        with contextlib.suppress(Exception):
+            client.cancel(list(futures))
+        raise
+
+
+@contextlib.contextmanager
+def connect(*, workers=None, scheduler=None):
+    """The dask client a campaign runs on, for the length of the ``with`` block: None
+    (serial: neither given), the caller's ``distributed.Client`` (``scheduler=client``),
+    one connected to the scheduler at an address (``"tcp://host:8786"``), or one of a
+    local cluster of ``workers`` processes (:func:`local_cluster`), started here and
+    stopped at the end — quietly when an error ends the run."""
     if scheduler is None and not workers:
-        for i, t in enumerate(tasks):
-            r = fn(t)
-            if progress is not None:
-                progress(r)
-            yield i, r
+        yield None
         return
     try:
-        from distributed import Client, as_completed
+        from distributed import Client
     except ImportError:
         raise InputError(
             "running on dask needs the 'distributed' extra: pip install 'pipeline[distributed]'"
@@ -114,26 +158,12 @@ def iter_results(tasks, fn, *, workers=None, scheduler=None, progress=None):
             raise InputError(f"workers must be ≥ 1, got {workers}")
         cluster = local_cluster(workers)
         client = Client(cluster)
-    futures = {}
     hushed = contextlib.nullcontext()
     try:
-        n_workers = max(1, len(client.scheduler_info().get("workers", {})))
-        size = max(1, min(MAX_CHUNK, -(-len(tasks) // (CHUNKS_PER_WORKER * n_workers))))
-        for a in range(0, len(tasks), size):
-            futures[client.submit(_run_chunk, fn, tasks[a : a + size], pure=False)] = a
-        for f in as_completed(list(futures)):
-            part = _results(f.result())
-            a = futures.pop(f)
-            f.release()  # its results leave the cluster's memory
-            for k, r in enumerate(part):
-                if progress is not None:
-                    progress(r)
-                yield a + k, r
-    except BaseException:  # the run ends here: the chunks still running are cancelled
+        yield client
+    except BaseException:
         if cluster is not None:
             hushed = _hushed(client)
-        with contextlib.suppress(Exception):
-            client.cancel(list(futures))
         raise
     finally:
         with hushed:

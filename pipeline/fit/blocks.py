@@ -47,13 +47,14 @@ G. H. Golub, C. F. Van Loan, *Matrix Computations*, 4th ed., Johns Hopkins (2013
 
 from __future__ import annotations
 
+import collections
 from dataclasses import dataclass
 
 import numpy as np
 
 from .engine import local_jacobians
 from .procedure import misfit_part
-from .store import CHUNK, chunks_of
+from .store import CHUNK, chunks_of, load_chunk
 
 __all__ = ["BlockCovariance", "BlockResult", "solve_blocks", "CHUNK"]
 _TOL = 1e-6
@@ -130,44 +131,107 @@ class _Evaluation:
     parts: list | None = None
 
 
-def _evaluate(model, datas, design, theta, shared, own, scale, jacobian) -> _Evaluation:
-    """Every record at θ, a chunk at a time (:class:`_Evaluation`)."""
+def _evaluate(
+    model, datas, design, theta, shared, own, scale, jacobian, executor=None
+) -> _Evaluation:
+    """Every record at θ, a chunk at a time, here or in ``executor``'s processes
+    (:class:`_Evaluation`)."""
     R = len(datas)
-    chi2 = np.empty(R)
-    if not jacobian:
-        Ps = design.local(theta[None, :])
-        for a, chunk in chunks_of(datas, CHUNK):
-            r, _ = model.residuals(chunk, Ps[a : a + len(chunk)])
-            chi2[a : a + len(chunk)] = [float(x[0] @ x[0]) for x in r]
-        return _Evaluation(float(sum(chi2.tolist())), chi2)
-    Ps, D = _dlocal(design, theta, shared, own, scale)
-    active = [np.flatnonzero(np.any(D[i] != 0, axis=1)) for i in range(R)]
-    ps, po = shared.size, D.shape[2] - shared.size
-    blocks = {
-        "ss": np.empty((R, ps, ps)),
-        "sl": np.empty((R, ps, po)),
-        "ll": np.empty((R, po, po)),
-        "gs": np.empty((R, ps)),
-        "gl": np.empty((R, po)),
-    }
-    parts = [None] * R
-    for a, chunk in chunks_of(datas, CHUNK):
-        idx = range(a, a + len(chunk))
-        r, Jl, _ = local_jacobians(
-            model, chunk, [Ps[i][None, :] for i in idx], [active[i] for i in idx]
+    if jacobian:
+        Ps, D = _dlocal(design, theta, shared, own, scale)
+        active = [np.flatnonzero(np.any(D[i] != 0, axis=1)) for i in range(R)]
+    else:
+        Ps, D, active = design.local(theta[None, :]), None, None
+    rows = np.stack([p.reshape(-1) for p in Ps])  # (R, L): each record's local parameters
+    ps = shared.size
+    jobs = (
+        (
+            model,
+            chunk,
+            rows[a : a + n],
+            None if D is None else D[a : a + n],
+            None if active is None else active[a : a + n],
+            ps,
         )
-        for i, d, ri, Ji in zip(idx, chunk, r, Jl, strict=True):
-            ri = ri[0]
-            J = Ji[0][active[i]].T @ D[i][active[i]]  # (n_i, p_s + p_o)
-            Js, Jo = J[:, :ps], J[:, ps:]
-            blocks["ss"][i] = Js.T @ Js
-            blocks["sl"][i] = Js.T @ Jo
-            blocks["ll"][i] = Jo.T @ Jo
-            blocks["gs"][i] = Js.T @ ri
-            blocks["gl"][i] = Jo.T @ ri
-            parts[i] = misfit_part(ri, d)
-            chi2[i] = parts[i].chi2
+        for a, n, chunk in chunks_of(datas, CHUNK, packed=executor is not None)
+    )
+    chi2 = np.empty(R)
+    blocks, parts = None, None
+    if jacobian:
+        po = D.shape[2] - ps
+        shapes = {"ss": (ps, ps), "sl": (ps, po), "ll": (po, po), "gs": (ps,), "gl": (po,)}
+        blocks = {k: np.empty((R,) + v) for k, v in shapes.items()}
+        parts = [None] * R
+    a = 0
+    for c2, b, p in _mapped(executor, _chunk, jobs):
+        n = c2.size
+        chi2[a : a + n] = c2
+        if jacobian:
+            for k in blocks:
+                blocks[k][a : a + n] = b[k]
+            parts[a : a + n] = p
+        a += n
     return _Evaluation(float(sum(chi2.tolist())), chi2, blocks, parts)
+
+
+def _chunk(model, chunk, rows, D, active, ps):
+    """One chunk of records at their local parameters ``rows`` (n, L): each record's χ²,
+    and with their derivatives ``D`` (n, L, p_s + p_o) by the global parameters (the
+    ``active`` ones per record) its normal-equation blocks and misfit share (module
+    notes). ``chunk``: the records, or a store's chunk as written (bytes); the work of
+    :func:`_evaluate`, here or in another process."""
+    if isinstance(chunk, bytes):
+        chunk = load_chunk(chunk)
+    Ps = [P[None, :] for P in rows]
+    n = len(chunk)
+    if D is None:
+        r, _ = model.residuals(chunk, Ps)
+        return np.array([float(x[0] @ x[0]) for x in r]), None, None
+    po = D.shape[2] - ps
+    blocks = {
+        "ss": np.empty((n, ps, ps)),
+        "sl": np.empty((n, ps, po)),
+        "ll": np.empty((n, po, po)),
+        "gs": np.empty((n, ps)),
+        "gl": np.empty((n, po)),
+    }
+    parts = [None] * n
+    r, Jl, _ = local_jacobians(model, chunk, Ps, active)
+    for i, (d, ri, Ji) in enumerate(zip(chunk, r, Jl, strict=True)):
+        ri = ri[0]
+        J = Ji[0][active[i]].T @ D[i][active[i]]  # (n_i, p_s + p_o)
+        Js, Jo = J[:, :ps], J[:, ps:]
+        blocks["ss"][i] = Js.T @ Js
+        blocks["sl"][i] = Js.T @ Jo
+        blocks["ll"][i] = Jo.T @ Jo
+        blocks["gs"][i] = Js.T @ ri
+        blocks["gl"][i] = Jo.T @ ri
+        parts[i] = misfit_part(ri, d)
+    return np.array([p.chi2 for p in parts]), blocks, parts
+
+
+#: Chunks in flight at once in an executor (their records travel with them: ~1.4 MB each).
+WINDOW = 8
+
+
+def _mapped(executor, fn, jobs):
+    """``fn(*job)`` for each job, in order: here, or submitted to ``executor`` with at most
+    :data:`WINDOW` in flight."""
+    if executor is None:
+        for job in jobs:
+            yield fn(*job)
+        return
+    pending = collections.deque()
+    try:
+        for job in jobs:
+            pending.append(executor.submit(fn, *job))
+            if len(pending) >= WINDOW:
+                yield pending.popleft().result()
+        while pending:
+            yield pending.popleft().result()
+    finally:
+        for f in pending:
+            f.cancel()
 
 
 def _inverse(H, lam=0.0):
@@ -281,7 +345,9 @@ def _covariance(B, shared, own, varied_index):
     return BlockCovariance(Css, X, M, where, ~ok)
 
 
-def solve_blocks(model, datas, design, theta0, varied, lower, upper, *, max_iter=100):
+def solve_blocks(
+    model, datas, design, theta0, varied, lower, upper, *, max_iter=100, executor=None
+):
     """Levenberg–Marquardt over records with shared and own parameters (module notes).
 
     Parameters
@@ -295,6 +361,9 @@ def solve_blocks(model, datas, design, theta0, varied, lower, upper, *, max_iter
     varied : sequence of bool — which vary
     lower, upper : numpy.ndarray — bounds (steps are clipped to them)
     max_iter : int — most iterations
+    executor : concurrent.futures.Executor, optional — evaluates the chunks of records in
+        its processes (a dask ``Client.get_executor()``), a few at a time; the records
+        travel as the store wrote them
 
     Returns
     -------
@@ -305,7 +374,7 @@ def solve_blocks(model, datas, design, theta0, varied, lower, upper, *, max_iter
     shared, own = _blocks(design, theta, varied)
     scale = np.asarray(design.scale, dtype=float)
     lam = 1e-3
-    ev = _evaluate(model, datas, design, theta, shared, own, scale, True)
+    ev = _evaluate(model, datas, design, theta, shared, own, scale, True, executor)
     nfev = njev = 1
     message, success = "the maximum number of iterations was reached", False
     p_o = own[0].size if own else 0
@@ -317,7 +386,7 @@ def solve_blocks(model, datas, design, theta0, varied, lower, upper, *, max_iter
         for i, o in enumerate(own):
             trial[o] += dl[i] if p_o else 0.0
         trial = np.clip(trial, lower, upper)
-        ev_t = _evaluate(model, datas, design, trial, shared, own, scale, ahead)
+        ev_t = _evaluate(model, datas, design, trial, shared, own, scale, ahead, executor)
         nfev += 1
         njev += ahead
         if np.isfinite(ev_t.chi2) and ev_t.chi2 <= ev.chi2:
@@ -326,7 +395,7 @@ def solve_blocks(model, datas, design, theta0, varied, lower, upper, *, max_iter
             theta = trial
             lam = max(lam / 10.0, 1e-9)
             if not ahead:
-                ev_t = _evaluate(model, datas, design, theta, shared, own, scale, True)
+                ev_t = _evaluate(model, datas, design, theta, shared, own, scale, True, executor)
                 njev += 1
             ev, ahead = ev_t, True
             if lam <= 1e-3 and (drop < _TOL or moved < _TOL):  # MINPACK's ftol or xtol

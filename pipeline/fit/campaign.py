@@ -378,7 +378,7 @@ class _Joint:
     datas: object
 
 
-def _joint(model, store, design, init, vary) -> dict:
+def _joint(model, store, design, init, vary, executor=None) -> dict:
     """The joint fit by the block solver (:mod:`pipeline.fit.blocks`), as the fields of a
     :class:`CampaignFit` (those :func:`pipeline.fit.procedure.run_fit` gives a dense one)."""
     import lmfit
@@ -400,7 +400,7 @@ def _joint(model, store, design, init, vary) -> dict:
         if varied[i]:
             lower[i], upper[i] = lo, hi
         theta0[i] = float(np.clip(init[n], lower[i], upper[i]))
-    res = solve_blocks(model, store, design, theta0, varied, lower, upper)
+    res = solve_blocks(model, store, design, theta0, varied, lower, upper, executor=executor)
     n = int(sm.n_data.sum())
     k = int(varied.sum())
     nuisance = int(sm.n_nuisance.sum())
@@ -527,6 +527,10 @@ def fit_campaign(
         own parameters (:mod:`pipeline.fit.blocks`), time and memory linear in the records;
         ``"dense"``: lmfit on the dense Jacobian over all records (the same optimum, its
         cost growing with the square of the records and more).
+    executor : concurrent.futures.Executor, optional
+        Evaluate the records a chunk at a time in its processes (the block solver; a dask
+        ``Client.get_executor()``, as a campaign on a cluster does): the same fit, its time
+        divided among the processes.
     starts : {"moments", "fits"} or sequence of mapping
         Starting values: ``"moments"`` (default) each record's from its pulse's moments
         (:mod:`pipeline.fit.contact`: E*, e, t0, the Ft/Fn plateau for μ); ``"fits"`` a fit
@@ -557,6 +561,7 @@ def fit_campaign(
     window_options = opts.pop("window_options", None)
     starts = opts.pop("starts", "moments")
     solver = opts.pop("solver", "blocks")
+    executor = opts.pop("executor", None)
     if opts:
         raise InputError(f"fit_campaign: unknown option(s) {', '.join(sorted(opts))}")
     if solver not in ("blocks", "dense"):
@@ -646,7 +651,7 @@ def fit_campaign(
             kw = run_fit(model, list(store), design, init, vary, [], n_boot=n_boot, seed=seed)
             kw["problem"] = _Joint(design, store)
         else:
-            kw = _joint(model, store, design, init, vary)
+            kw = _joint(model, store, design, init, vary, executor)
         kw.update(
             mu_law=ml,
             damping=dm,

@@ -47,7 +47,7 @@ import numpy as np
 
 from .forward import Channel, RecordData, baseline_basis, fine_grid
 
-__all__ = ["RecordStore", "RecordSummary", "pack", "unpack", "CHUNK"]
+__all__ = ["RecordStore", "RecordSummary", "pack", "unpack", "load_chunk", "CHUNK"]
 
 #: Records written and read together: a chunk's arrays (~1.3 MB) and one read per chunk.
 CHUNK = 64
@@ -213,13 +213,15 @@ class RecordStore(Sequence):
         self._file.write(blob)
         self._spans.append((offset, len(blob)))
 
-    def _read(self, k: int) -> list:
+    def _blob(self, k: int) -> bytes:
         offset, length = self._spans[k]
         with self._lock:
             if self._file.closed:
                 raise ValueError("the record store is closed")
-            blob = os.pread(self._file.fileno(), length, offset)
-        return [unpack(s) for s in pickle.loads(blob)]
+            return os.pread(self._file.fileno(), length, offset)
+
+    def _read(self, k: int) -> list:
+        return load_chunk(self._blob(k))
 
     def __len__(self) -> int:
         return len(self.summary.names)
@@ -237,6 +239,13 @@ class RecordStore(Sequence):
         """``(start, records)`` for each chunk, in order."""
         for k in range(len(self._spans)):
             yield k * self.chunk, self._read(k)
+
+    def blobs(self):
+        """``(start, size, bytes)`` for each chunk as written, in order: what another
+        process needs to rebuild its records (:func:`load_chunk`)."""
+        for k in range(len(self._spans)):
+            a = k * self.chunk
+            yield a, min(self.chunk, len(self) - a), self._blob(k)
 
     @property
     def nbytes(self) -> int:
@@ -260,10 +269,21 @@ class RecordStore(Sequence):
         self.__init__(zip(state["datas"], state["names"], strict=True), chunk=state["chunk"])
 
 
-def chunks_of(datas, size: int = CHUNK):
-    """``(start, records)`` chunks of a :class:`RecordStore` or of a list of records."""
+def load_chunk(blob: bytes) -> list:
+    """The records of a chunk as a :class:`RecordStore` wrote it (:meth:`RecordStore.blobs`)."""
+    return [unpack(s) for s in pickle.loads(blob)]
+
+
+def chunks_of(datas, size: int = CHUNK, *, packed: bool = False):
+    """``(start, size, records)`` chunks of a :class:`RecordStore` or of a list of records;
+    with ``packed``, a store's chunks as written (bytes, for :func:`load_chunk`)."""
     if isinstance(datas, RecordStore):
-        yield from datas.chunks()
+        if packed:
+            yield from datas.blobs()
+            return
+        for a, chunk in datas.chunks():
+            yield a, len(chunk), chunk
         return
     for a in range(0, len(datas), size):
-        yield a, list(datas[a : a + size])
+        chunk = list(datas[a : a + size])
+        yield a, len(chunk), chunk
