@@ -188,3 +188,13 @@ def test_the_softer_body_yields_first_and_an_unstated_yield_says_nothing():
     assert plain.yield_speed is None and "yield" not in plain.reason
     with pytest.raises(InputError, match="yield_strength"):
         Scene(yield_strength=-1.0, **STEEL)
+
+
+def test_normal_incidence_with_friction_is_rigid():
+    """At 0° there is no initial slip: Pt = 0 in every model (docs/theory.md), so the rigid
+    model is exact whatever μ (it raised before: the simulator's rounding, ~1e-21 N of Ft,
+    was refused as a force unit error)."""
+    a = advise(Scene(angle_deg=0.0, **STEEL))
+    assert a.model == "rigid" and a.normal is None
+    assert a.errors["omega"]["rigid"] == 0.0
+    assert a.errors["Pt(Pn)"]["rigid"] < 1e-12
