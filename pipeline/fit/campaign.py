@@ -27,7 +27,11 @@ AIC and BIC decide, and ΔAIC > 10 is decisive (Burnham & Anderson 2002).
 The fit is Levenberg–Marquardt on the Schur complement of the records' own parameters
 (:mod:`pipeline.fit.blocks`): its cost grows linearly with the records (a dense Jacobian
 over all records' samples grows with their square and its factorisation with their cube;
-``solver="dense"`` keeps that path, which gives the same optimum). Starting values come
+``solver="dense"`` keeps that path, which gives the same optimum). The records are
+prepared once and kept compacted on disk (:mod:`pipeline.fit.store`), read back a chunk
+at a time at each evaluation, so the fit's memory does not grow with the records beyond a
+few kB of numbers each (their parameters, normal-equation blocks and misfit shares); an
+``executor`` spreads the evaluations over processes. Starting values come
 from each record's pulse moments (or a fit of each record alone, or the caller's values):
 E* and ``kt_scale`` their medians, e or α from the records' restitutions, μ (or a, b) by
 weighted least squares on the identifiable μ_i; each further hypothesis starts from the
@@ -503,7 +507,9 @@ def fit_campaign(
 
     Parameters
     ----------
-    records : sequence of xarray.Dataset — the records
+    records : sequence of xarray.Dataset — the records; a lazy sequence (one that reads
+        each record from its file when indexed) is read once, a record at a time, so that
+        a campaign of many records is never all in memory
     scenes : Scene or sequence of Scene — one per record (or one for all)
     shared : sequence of str — of ``"E_eff"``, ``"kt_scale"``: one value for every record
     mu_law : {"constant", "linear_vt0"} — μ, or μ = a + b·v_t0 [b in s/m]
@@ -524,7 +530,8 @@ def fit_campaign(
         bootstrap needs ``solver="dense"``).
     solver : {"blocks", "dense"}
         ``"blocks"`` (default): Levenberg–Marquardt on the Schur complement of the records'
-        own parameters (:mod:`pipeline.fit.blocks`), time and memory linear in the records;
+        own parameters (:mod:`pipeline.fit.blocks`), time linear in the records, memory
+        flat (the records on disk);
         ``"dense"``: lmfit on the dense Jacobian over all records (the same optimum, its
         cost growing with the square of the records and more).
     executor : concurrent.futures.Executor, optional
