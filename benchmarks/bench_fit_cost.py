@@ -121,8 +121,7 @@ def records(n_rep):
         for i in range(n_rep)
     ]
     oblique = [
-        to_sensor(ideal_o, noise=NOISE * ideal_o.attrs["F_max"], seed=100 + i)
-        for i in range(n_rep)
+        to_sensor(ideal_o, noise=NOISE * ideal_o.attrs["F_max"], seed=100 + i) for i in range(n_rep)
     ]
     return {
         "normal": (NORMAL, normal, ("E_eff", "e"), {"tangential": "none"}),

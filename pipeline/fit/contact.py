@@ -173,12 +173,20 @@ class ContactFit(FitResult):
             return {}
         return self._yield95 if level == 0.95 else _yield_point(self, level)
 
+    @functools.cached_property
+    def _yield_values(self) -> dict:
+        """``p_y`` [Pa] and ``v_y`` [m/s] at the fitted parameters (no interval: the verdict's
+        fits of Thornton's law need only these); empty for the other laws."""
+        if self.model is None or self.normal != "thornton":
+            return {}
+        return {k: v[0] for k, v in _yield_point(self, None).items()}
+
     @property
     def values(self) -> dict:
         """{name: value} [SI] (:attr:`FitResult.values`), and for Thornton's law the yield
         pressure ``p_y`` [Pa] and yield speed ``v_y`` [m/s] it implies."""
         out = super().values
-        out.update({k: v[0] for k, v in self._derived().items()})
+        out.update(self._yield_values)
         return out
 
     @property
@@ -242,7 +250,7 @@ class ContactFit(FitResult):
         """The fitted model as measured at the fitted samples, one array per channel [N]
         (with the channel's fitted residual baseline, where one is fitted)."""
         P = self._P()
-        sol = self.model.solve([self.data], [P])[0]
+        sol = self.problem.solution(self.theta)[0]  # kept from the fit's last evaluation
         out = []
         for c, m in zip(self.data.channels, self.model.predict(self.data, P, sol), strict=True):
             out.append(m[0] + (c.y - m[0]) - c.project(c.y - m[0]))
@@ -472,7 +480,7 @@ class ContactFit(FitResult):
 
 def _yield_point(fit, level) -> dict:
     """``p_y`` [Pa] and ``v_y`` [m/s] of a Thornton fit: {name: (value, stderr, (lo, hi))}
-    (module notes)."""
+    (module notes); ``level`` None: the values alone (stderr and interval NaN)."""
     d, design = fit.data, fit.problem.design
     theta = np.asarray(fit.theta, dtype=float)
 
@@ -484,6 +492,11 @@ def _yield_point(fit, level) -> dict:
         return np.log([float(yield_pressure(v_y, E, R, m)), float(v_y)])
 
     centre = logs(theta)
+    if level is None:
+        return {
+            k: (math.exp(c), math.nan, (math.nan, math.nan))
+            for k, c in zip(("p_y", "v_y"), centre, strict=True)
+        }
     vary = fit.vary
     g = np.zeros((2, len(vary)))
     for j, name in enumerate(vary):
@@ -733,30 +746,39 @@ def fit_model(record, scene, model, vary, *, t_begin=None, data=None, **options)
         data = _prepare(record, scene, model, given)
     notes = list(data.notes)
     design = _Single(data, normal, use_alpha)
-    s0 = _start(data, model, float(scene.speed))
+    starts = {}  # the record's starting values, worked out where one is needed
+
+    def s0(name, default=None):
+        if not starts:
+            starts.update(_start(data, model, float(scene.speed)))
+        return starts.get(name, default)
+
     fixed = {
         "E_eff": float(scene.E_eff),
         "e": 1.0 if normal == "hertz" else scene.e,
         "mu": scene.mu,
         "kt_scale": 1.0,
         "speed": float(scene.speed),
-        "t0": s0["t0"],
+        "t0": None,  # the start's, where not fitted
     }
     for name, value in fixed.items():
         if value is None and name not in vary:
             if name == "mu" and tangential == "none":
                 fixed[name] = 0.0
                 continue
-            notes.append(f"{name} is neither in the scene nor fitted: held at its start value")
-            fixed[name] = s0[name]
+            if name != "t0":
+                notes.append(f"{name} is neither in the scene nor fitted: held at its start value")
+            fixed[name] = s0(name)
     nominal = dict(zip(PARAMS, data.nominal(), strict=True))
     fixed.update({n: nominal[n] for n in PARAMS if n not in fixed})
-    init = {n: (s0.get(n, fixed[n]) if n in vary else fixed[n]) for n in PARAMS}
-    if use_alpha:
+    init = {
+        n: (start[n] if n in start else s0(n, fixed[n])) if n in vary else fixed[n] for n in PARAMS
+    }
+    if use_alpha and "alpha" not in start:
         L = NORMAL_LAWS[normal]
         v0 = init["speed"] * data.cos_a
         K = 4.0 / 3.0 * init["E_eff"] * math.sqrt(data.R_eff)
-        p = float(L.calibrate(s0["e"]))
+        p = float(L.calibrate(s0("e")))
         init["alpha"] = p / float(L.material_to_param(1.0, K, data.m_eff, v0)) if p else 0.0
     syst = () if normal is None else resolve(systematics, data, tangential)
     priors = {}
