@@ -51,6 +51,9 @@ FORCE_RANGE = (1e-20, 1e20)
 #: Range of a record's time steps and instants [s]: the smallest step at least 1e-20 s
 #: (no digitiser samples faster than ~1e-11 s), no instant beyond ±1e20 s.
 TIME_RANGE = (1e-20, 1e20)
+#: The coarsest resolution of a record's instants, as a share of its smallest step: an
+#: instant of 3.5e9 s (an absolute clock) is held to 4.8e-7 s, half a 1 MHz step.
+TIME_RESOLUTION = 1e-3
 
 _LONG_NAMES = {
     "Fn": "normal force (compressive > 0)",
@@ -134,7 +137,8 @@ def validate(record: xr.Dataset) -> xr.Dataset:
     """Check a record's invariants; return it unchanged or raise :class:`InputError`.
 
     Checks: a ``time`` coordinate in seconds, finite and strictly increasing, with at least
-    two samples, steps and instants within :data:`TIME_RANGE`; an ``Fn`` variable; every
+    two samples, steps and instants within :data:`TIME_RANGE`, instants that double precision
+    holds to :data:`TIME_RESOLUTION` of the smallest step; an ``Fn`` variable; every
     force variable in newtons, finite wherever it was measured, its largest magnitude zero
     or within :data:`FORCE_RANGE`; the ``source``, ``sha256`` and ``format`` attributes
     present. The two ranges keep every later stage inside the floats: a file whose forces
@@ -166,6 +170,16 @@ def validate(record: xr.Dataset) -> xr.Dataset:
             f"{max(abs(t[0]), abs(t[-1])):.3g} s lie outside what any digitiser records "
             f"(steps ≥ {TIME_RANGE[0]:g} s, instants within ±{TIME_RANGE[1]:g} s): the "
             "time unit is wrong; correct it in the file's header or with time_unit=",
+            path=src,
+        )
+    span = max(abs(t[0]), abs(t[-1]))
+    if np.spacing(span) > TIME_RESOLUTION * steps.min():
+        raise InputError(
+            f"time instants up to {span:.10g} s are held (in double precision) only to "
+            f"{np.spacing(span):.2g} s, too coarse for steps of {steps.min():.3g} s: the "
+            "samples' spacing is lost; export time relative to the record's start (an "
+            "absolute clock, such as LabVIEW's seconds since 1904 or a Unix time, cannot "
+            "be read to that step)",
             path=src,
         )
     if "Fn" not in record:

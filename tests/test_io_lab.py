@@ -202,7 +202,8 @@ def test_cli_sensitivity_option(tmp_path, capsys):
     got = parse_sensitivity_option("Fn=0,225 mV/N;Ft=0.5mV/N")
     assert got["Fn"].newtons_per_volt == pytest.approx(1 / 0.225e-3, rel=1e-12)
     assert got["Ft"].newtons_per_volt == pytest.approx(2000.0, rel=1e-12)
-    assert parse_sensitivity_option('{"Fn": [2, "N/V"]}')["Fn"].newtons_per_volt == 2.0
+    k = parse_sensitivity_option('{"Fn": [2, "N/V"]}')["Fn"].newtons_per_volt
+    assert k == pytest.approx(2.0, rel=1e-12)
     rec = tmp_path / "drop.lvm"
     shutil.copy(SAMPLES / "sensor_volts.lvm", rec)  # no sidecar: nothing states the rig
     assert main(["analyse", str(rec), "--boot", "0"]) == 2
@@ -391,6 +392,33 @@ def test_lvm_without_segment_header_and_with_a_special_block(tmp_path):
 def test_lvm_refusals(tmp_path, body, kwargs, fragment, line):
     err = _raises(fragment, load, _lvm(tmp_path, body, **kwargs))
     assert err.line == line
+
+
+def test_lvm_absolute_x0_keeps_the_step(tmp_path):
+    """Time_Pref Absolute: X0 is LabVIEW's seconds since 1904 (3.48e9 s, held in double
+    precision to 4.8e-7 s). X0 + k·Delta_X would round a 0.5 µs step to 0 or 4.8e-7 s;
+    time counts from the first sample instead, and X0 is kept as the file states it."""
+    x0 = "3.4835261505500000E+9"
+    body = SEGMENT.replace("-1.0000000000000000E-6", x0) + "\t1\t2\n\t3\t4\n\t5\t6\n"
+    rec = load(_lvm(tmp_path, body, x="No"))
+    np.testing.assert_allclose(rec["time"].values, [0.0, 0.5e-6, 1e-6], rtol=1e-12, atol=0)
+    assert rec.attrs["lvm_x0"] == x0
+    # a small X0 (Time_Pref Relative) is the time's origin, as the file says
+    rec = load(_lvm(tmp_path, SEGMENT + "\t1\t2\n\t3\t4\n", x="No", name="rel.lvm"))
+    np.testing.assert_allclose(rec["time"].values, [-1e-6, -0.5e-6], rtol=1e-12)
+    assert "lvm_x0" not in rec.attrs
+
+
+def test_absolute_time_values_are_refused_not_rounded(tmp_path):
+    """Time written as an absolute clock (a Unix time, 1.7e9 s) in 1 µs steps: double
+    precision holds those instants to 2.4e-7 s, so the spacing read would be 0.95 or
+    1.19 µs, not 1 µs. The record is refused, saying what to do."""
+    rows = "".join(f"{1.7e9 + k * 1e-6:.6f},{k}\n" for k in range(5))
+    p = _csv(tmp_path, "time [s],Fz [N]\n" + rows)
+    _raises("too coarse for steps of", load, p)
+    _raises("export time relative to the record's start", load, p)
+    body = "X_Value\tFz (N)\tComment\n" + rows.replace(",", "\t")
+    _raises("held (in double precision) only to 2.4e-07 s", load, _lvm(tmp_path, body))
 
 
 def test_lvm_not_an_lvm_and_truncated_header(tmp_path):

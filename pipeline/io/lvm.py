@@ -32,8 +32,11 @@ What :func:`read_lvm` reads:
   ``Space`` or the character itself; Tab when absent) and the decimal mark
   (``Decimal_Separator``: ``.`` or ``,``; ``.`` in version-1 files that lack the tag);
 - ``X_Columns``: ``No`` (an empty X cell; time = X0 + k·Delta_X from the segment header,
-  as LabVIEW's own reader does), ``One`` (the first column is time) or ``Multi`` (an X
-  column before every channel: the channels read must share their instants);
+  as LabVIEW's own reader does — or k·Delta_X, with X0 kept in ``attrs["lvm_x0"]``, where
+  X0 is an absolute time, ``Time_Pref`` ``Absolute``, too large for double precision to
+  hold the step), ``One`` (the first column is time) or ``Multi`` (an X column before
+  every channel: the channels read must share their instants); X values that are absolute
+  times are refused (:func:`pipeline.record.validate`: their text lost the step);
 - the ``Comment`` column (LabVIEW's escapes ``\\09``, ``\\0D\\0A``, ``\\\\`` decoded;
   the comments go to ``attrs["meta_comment"]`` with their lines), CRLF or LF line ends,
   ``Multi_Headings`` Yes or No ("one header only": later writes append rows under the first
@@ -76,6 +79,7 @@ import numpy as np
 import pandas as pd
 
 from ..errors import InputError
+from ..record import TIME_RESOLUTION
 from ._common import (
     LINE_END,
     NONFINITE,
@@ -414,7 +418,8 @@ def read_lvm(
     -------
     xarray.Dataset
         The record (``format="lvm"``, ``kind="sensor"``), SI units; attributes as every
-        reader's, and ``lvm_x_columns``, ``lvm_segment`` (of ``lvm_segments``), the file
+        reader's, and ``lvm_x_columns``, ``lvm_segment`` (of ``lvm_segments``), ``lvm_x0``
+        (an absolute X0 left out of the time, see the module notes), the file
         and segment header's other tags as ``meta_<tag>``, the comments as
         ``meta_comment``, ``sensitivity`` where one was applied.
 
@@ -456,13 +461,13 @@ def read_lvm(
         index = segment
     seg = segments[index]
     time, columns, meta = _segment_columns(seg, sep, p, None if time_unit is not None else "s")
-    attrs = {
-        "lvm_x_columns": _setting(seg.file_header, "X_Columns", "One"),
-        "lvm_segment": float(index),
-        "lvm_segments": float(len(segments)),
+    attrs = meta  # the time column, read with the record, may add lvm_x0 to it
+    attrs.update(
+        lvm_x_columns=_setting(seg.file_header, "X_Columns", "One"),
+        lvm_segment=float(index),
+        lvm_segments=float(len(segments)),
         **({"encoding": used_encoding} if used_encoding else {}),
-        **meta,
-    }
+    )
     return table_record(
         p,
         sha,
@@ -652,8 +657,14 @@ def _segment_columns(seg: _Segment, sep: str, p, x_unit):
                 line=header["Delta_X"][1],
             )
         with np.errstate(over="ignore", invalid="ignore"):  # refused as not finite
-            t = start + step * np.arange(len(lines))
-        return Column("X0 + k·Delta_X", t, x_unit, None)
+            t = step * np.arange(len(lines))
+            span = max(abs(start), abs(start + t[-1]))
+        if np.spacing(span) <= TIME_RESOLUTION * step:
+            return Column("X0 + k·Delta_X", start + t, x_unit, None)
+        # an absolute X0 (Time_Pref Absolute: seconds since 1904) would round every
+        # instant to a share of the step: time counts from the segment's first sample
+        meta["lvm_x0"] = x0
+        return Column("k·Delta_X (from X0)", t, x_unit, None)
 
     _check_dimension(header, [by_k[id(c)] for c in out], p)
     return time_of, out, meta
