@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 import shutil
+import warnings
 from pathlib import Path
 
 import pytest
@@ -257,3 +258,23 @@ def test_analyse_names_an_impossible_outcome_and_its_cause(tmp_path, capsys, cap
     code, out, err = _run(capsys, "analyse", p, "--boot", 0, "--json")
     check = json.loads(out)["plausibility"]["e_t_bound"]
     assert check["status"] == "warning" and check["measured"] == pytest.approx(1.38, abs=0.01)
+
+
+def test_log_warnings_only_the_pipelines_own_are_warnings(caplog):
+    """A normal run's log holds the library's findings (WARNING), not another library's
+    noise: a dask client's unclosed socket is an INFO line (shown with -v), and a warning
+    repeated is logged once."""
+    import logging
+
+    from pipeline.cli._common import log_warnings
+    from pipeline.errors import PoorFitWarning
+
+    with caplog.at_level(logging.DEBUG, logger="pipeline"), log_warnings():
+        warnings.warn("unclosed <socket.socket fd=12>", ResourceWarning, stacklevel=1)
+        for _ in range(2):
+            warnings.warn("Fn: the quartic misses structure", PoorFitWarning, stacklevel=1)
+    got = [(r.levelname, r.getMessage()) for r in caplog.records]
+    assert got == [
+        ("INFO", "ResourceWarning: unclosed <socket.socket fd=12>"),
+        ("WARNING", "PoorFitWarning: Fn: the quartic misses structure"),
+    ]

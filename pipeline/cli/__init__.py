@@ -42,7 +42,13 @@ def main(argv=None) -> int:
     parser = Parser(
         prog="pipeline", description="Impact-force histories to physics.", epilog=EXIT_CODES
     )
-    parser.add_argument("-v", "--verbose", action="store_true", help="log the warnings too")
+    parser.add_argument(
+        "-v",
+        "--verbose",
+        action="store_true",
+        help="log INFO lines too: other libraries' warnings, a dask cluster's messages; "
+        "an internal error's traceback",
+    )
     sub = parser.add_subparsers(dest="command", required=True)
     for command in COMMANDS:
         command.register(sub)

@@ -10,7 +10,7 @@ import logging
 import warnings
 from pathlib import Path
 
-from ..errors import InputError
+from ..errors import InputError, PipelineWarning
 
 #: Exit statuses of every command (``pipeline --help`` lists them; docs/cli.md explains).
 EXIT_OK, EXIT_FAILED_RECORDS, EXIT_BAD_INPUT, EXIT_INTERNAL = 0, 1, 2, 3
@@ -193,10 +193,17 @@ def read_scene(record_path, scene_path=None, record=None):
 @contextlib.contextmanager
 def log_warnings():
     """The library's warnings (poor fits, plausibility) reach the user as log lines naming
-    the problem, each once, not as Python warnings pointing into the library's source."""
+    the problem, each once, not as Python warnings pointing into the library's source.
+
+    Only the pipeline's own (:class:`~pipeline.errors.PipelineWarning`) are WARNING lines;
+    another library's (a dask client's unclosed socket, a deprecation) say nothing about
+    the records and are INFO lines, shown with ``-v``.
+    """
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         yield
-    seen = dict.fromkeys((w.category.__name__, str(w.message)) for w in caught)
-    for name, message in seen:
-        logging.getLogger("pipeline").warning("%s: %s", name, message)
+    log = logging.getLogger("pipeline")
+    seen = dict.fromkeys((w.category, str(w.message)) for w in caught)
+    for category, message in seen:
+        level = logging.WARNING if issubclass(category, PipelineWarning) else logging.INFO
+        log.log(level, "%s: %s", category.__name__, message)
