@@ -409,6 +409,7 @@ def render_record_report(
     *,
     notes=(),
     options: dict | None = None,
+    load: dict | None = None,
     scene_given: bool = True,
     html: bool = True,
     name: str | None = None,
@@ -425,6 +426,9 @@ def render_record_report(
     notes : sequence of str — the analysis' warnings (:func:`noted`)
     options : dict, optional — the keyword arguments of :func:`pipeline.analyse` that
         made ``analysis`` (``n_boot`` and ``seed`` among them; default theirs)
+    load : dict, optional — the keyword arguments of :func:`pipeline.io.load` the record
+        was read with over its sidecar's (a rig's ``sensitivity``...), for the notebook to
+        read it the same way
     scene_given : bool — False: the scene is the record's sidecar's (the notebook reads it
         there again); True: the notebook states ``analysis.scene`` as ``scene_json``
     html : bool — also render HTML
@@ -436,7 +440,7 @@ def render_record_report(
     """
     record = Path(record).resolve()
     scene = analysis.scene if scene_given else None
-    parameters = _record_parameters(record, scene, options or {})
+    parameters = _record_parameters(record, scene, options or {}, load)
     with _gc_paused():
         return render(
             TEMPLATES["record"],
@@ -447,9 +451,10 @@ def render_record_report(
         )
 
 
-def _record_parameters(record: Path, scene, options: dict) -> dict:
-    """The record template's parameters: the file, the scene (None: the sidecar's), and the
-    keyword arguments of :func:`pipeline.analyse` (``n_boot``, ``seed`` and the others)."""
+def _record_parameters(record: Path, scene, options: dict, load=None) -> dict:
+    """The record template's parameters: the file, the scene (None: the sidecar's), the
+    keyword arguments of :func:`pipeline.analyse` (``n_boot``, ``seed`` and the others)
+    and those of :func:`pipeline.io.load` (as Python literals)."""
     options = dict(options)
     return {
         "record": str(record),
@@ -457,7 +462,24 @@ def _record_parameters(record: Path, scene, options: dict) -> dict:
         "n_boot": int(options.pop("n_boot", 200)),
         "seed": options.pop("seed", 0),
         "analyse_options": options,
+        "load_options": _literal(dict(load or {})),
     }
+
+
+def _literal(value):
+    """``value`` as a Python literal for a parameters cell: a sensitivity as its ``(value,
+    unit)``, a path as a string, an array as nested lists."""
+    from .io import Sensitivity
+
+    if isinstance(value, dict):
+        return {k: _literal(v) for k, v in value.items()}
+    if isinstance(value, Sensitivity):
+        return (value.value, value.unit)
+    if isinstance(value, os.PathLike):
+        return os.fspath(value)
+    if hasattr(value, "tolist"):  # a NumPy array or number
+        return value.tolist()
+    return value
 
 
 @contextlib.contextmanager
@@ -542,6 +564,7 @@ def record_report(
     html: bool = True,
     name: str | None = None,
     kernel: bool = False,
+    load: dict | None = None,
 ) -> NotebookReport:
     """The fit report of one record file: analysed here and rendered, or executed.
 
@@ -556,6 +579,8 @@ def record_report(
     kernel : bool — execute the notebook in a fresh Jupyter kernel (:func:`execute`)
         instead of analysing and fitting the record in this process and rendering the
         outputs (:func:`render_record_report`; the same notebook, seconds faster)
+    load : dict, optional — keyword arguments of :func:`pipeline.io.load` over the
+        sidecar's ``"load"`` block (a rig's ``sensitivity``, ``axes``...)
 
     Returns
     -------
@@ -572,12 +597,12 @@ def record_report(
     if kernel:
         return execute(
             TEMPLATES["record"],
-            _record_parameters(record, scene, options),
+            _record_parameters(record, scene, options, load),
             Path(out_dir) / f"{name or record.stem}.ipynb",
             html=html,
         )
     t0 = time.perf_counter()
-    rec = load_sample(record)
+    rec = load_sample(record, **(load or {}))
     given = scene is not None
     scene = scene if given else scene_from_sidecar(record)
     if scene is None:
@@ -596,6 +621,7 @@ def record_report(
         out_dir,
         notes=notes,
         options=options,
+        load=load,
         scene_given=given,
         html=html,
         name=name,

@@ -199,11 +199,10 @@ def test_cli_sensitivity_option(tmp_path, capsys):
     from pipeline.cli import main
     from pipeline.cli._common import parse_sensitivity_option
 
-    got = parse_sensitivity_option("Fn=0,225 mV/N;Ft=0.5mV/N")
+    got = parse_sensitivity(parse_sensitivity_option("Fn=0,225 mV/N;Ft=0.5mV/N"))
     assert got["Fn"].newtons_per_volt == pytest.approx(1 / 0.225e-3, rel=1e-12)
     assert got["Ft"].newtons_per_volt == pytest.approx(2000.0, rel=1e-12)
-    k = parse_sensitivity_option('{"Fn": [2, "N/V"]}')["Fn"].newtons_per_volt
-    assert k == pytest.approx(2.0, rel=1e-12)
+    assert parse_sensitivity_option('{"Fn": [2, "N/V"]}') == {"Fn": [2.0, "N/V"]}
     rec = tmp_path / "drop.lvm"
     shutil.copy(SAMPLES / "sensor_volts.lvm", rec)  # no sidecar: nothing states the rig
     assert main(["analyse", str(rec), "--boot", "0"]) == 2
@@ -213,6 +212,92 @@ def test_cli_sensitivity_option(tmp_path, capsys):
         main(["analyse", str(rec), "--sensitivity", "Fn=0.225mV/V"])
     assert stop.value.code == 2
     assert "argument --sensitivity: sensitivity['Fn'] is a bridge's" in capsys.readouterr().err
+
+
+def _volts_without_sensitivity(folder: Path, names=("drop.lvm",)) -> list[Path]:
+    """Copies of the LabVIEW sample whose sidecars hold the scene but no sensitivity."""
+    side = json.loads((SAMPLES / "sensor_volts.json").read_text())
+    del side["sensitivity"]
+    out = []
+    for name in names:
+        rec = folder / name
+        shutil.copy(SAMPLES / "sensor_volts.lvm", rec)
+        rec.with_suffix(".json").write_text(json.dumps(side))
+        out.append(rec)
+    return out
+
+
+SENSITIVITY = "Fn=0.225mV/N,Ft=0.5mV/N"
+
+
+def test_cli_campaign_sensitivity_reads_every_record(tmp_path, capsys):
+    """pipeline campaign --sensitivity: each record's volts become newtons (the sample's
+    normal pulse peaks at Hertz's F_max for its scene, 1126.7 N, noise σ 2 N), and the
+    manifest keeps the option."""
+    import xarray as xr
+
+    from pipeline import Scene
+    from pipeline.cli import main
+    from pipeline.contact import hertz_impact
+
+    runs = tmp_path / "runs"
+    runs.mkdir()
+    _volts_without_sensitivity(runs, ("a.lvm", "b.lvm"))
+    out = tmp_path / "out"
+    fast = ["--no-reports", "--no-fit", "--boot", "0"]
+    code = main(["campaign", str(runs), "--out", str(out), *fast, "--sensitivity", SENSITIVITY])
+    assert code == 0, capsys.readouterr().err
+    with xr.open_dataset(out / "campaign.nc") as ds:
+        assert list(ds["status"].values) == ["ok", "ok"]
+        f_max = ds["F_max"].values
+    scene = Scene.from_dict(json.loads((SAMPLES / "sensor_volts.json").read_text())["scene"])
+    np.testing.assert_allclose(f_max, hertz_impact(scene).F_max, atol=12.0)
+    settings = json.loads((out / "manifest.json").read_text())["settings"]
+    assert settings["load"] == {"sensitivity": {"Fn": [0.225, "mV/N"], "Ft": [0.5, "mV/N"]}}
+
+
+def test_campaign_load_reaches_the_joint_fit(tmp_path):
+    """campaign(load=...) reads the records with it in the joint fit too (it reads them
+    again from their files): without it the joint fit would fail on the volts."""
+    from pipeline import campaign
+
+    files = _volts_without_sensitivity(tmp_path, ("a.lvm", "b.lvm"))
+    load = {"sensitivity": {"Fn": (0.225, "mV/N"), "Ft": (0.5, "mV/N")}}
+    ds = campaign(files, load=load, n_boot=0)
+    assert list(ds["status"].values) == ["ok", "ok"]
+    assert "joint_fit_error" not in ds.attrs
+    assert json.loads(ds.attrs["joint_fit_json"])["records"] == ["a.lvm", "b.lvm"]
+
+
+def test_cli_report_sensitivity_and_its_notebook_reads_the_same(tmp_path, capsys):
+    """pipeline report --sensitivity: the report is made, and its parameters cell states
+    the option, so that the notebook run again reads the same newtons."""
+    import ast
+
+    import nbformat
+
+    from pipeline.cli import main
+
+    (rec,) = _volts_without_sensitivity(tmp_path)
+    out = tmp_path / "reports"
+    args = ["report", str(rec), "--out", str(out), "--boot", "0", "--no-html"]
+    assert main(args) == 2
+    assert "is in volts ('Volts')" in capsys.readouterr().err
+    assert main([*args, "--sensitivity", SENSITIVITY]) == 0, capsys.readouterr().err
+    nb = nbformat.read(out / "drop.ipynb", as_version=4)
+    (cell,) = [c for c in nb.cells if "injected-parameters" in c.metadata.get("tags", [])]
+    line = next(ln for ln in cell.source.splitlines() if ln.startswith("load_options = "))
+    options = ast.literal_eval(line.removeprefix("load_options = "))
+    again = load_sample(rec, **options)
+    unit = {"Fn": (1.0, "N/V"), "Ft": (1.0, "N/V")}  # 1 N/V: the volts as they are
+    fz = load(SAMPLES / "sensor_volts.lvm", sensitivity=unit)["Fn"].values
+    np.testing.assert_allclose(again["Fn"].values, fz / 0.225e-3, rtol=1e-12)
+    assert main(["report", str(tmp_path / "c.nc"), "--sensitivity", SENSITIVITY]) == 2
+    err = capsys.readouterr().err
+    assert "no such file" in err
+    (tmp_path / "c.nc").write_bytes(b"")
+    assert main(["report", str(tmp_path / "c.nc"), "--sensitivity", SENSITIVITY]) == 2
+    assert "--sensitivity says how to read a record" in capsys.readouterr().err
 
 
 # ----------------------------------------------------------------- LabVIEW: real files

@@ -118,6 +118,7 @@ def campaign(
     progress: Callable | None = None,
     reports=None,
     report_html: bool = True,
+    load=None,
     **options,
 ) -> xr.Dataset:
     """Analyse many records into one Dataset (module notes give its layout).
@@ -150,6 +151,10 @@ def campaign(
         path. None (default): no reports, at no cost.
     report_html : bool
         The reports' HTML beside their notebooks.
+    load : dict, optional
+        Keyword arguments of :func:`pipeline.io.load` for every record, over each record's
+        sidecar ``"load"`` block: a rig's ``sensitivity`` (``{"Fn": (0.225, "mV/N")}``),
+        ``axes``, ``time_unit``, ``force_unit``, ``decouple``.
     **options
         Keyword arguments of :func:`pipeline.analyse` (``n_boot``, ``seed``, ``degree``,
         ``source``, ...), the same for every record.
@@ -186,6 +191,7 @@ def campaign(
         fit=fit,
         reports=reports,
         report_html=report_html,
+        load=load,
         **options,
     )
     gathered = Gathered(len(tasks))

@@ -23,9 +23,8 @@ from collections.abc import Sequence
 from .._json import json_ready
 from ..errors import InputError, PipelineWarning
 from ..fit import fit_campaign
-from ..report import load_sample
 from ..scene import Scene
-from .tasks import FIT_PARAMETERS
+from .tasks import FIT_PARAMETERS, read_task_record
 
 __all__ = ["joint_fit", "with_joint_fit"]
 
@@ -47,7 +46,7 @@ def joint_fit(tasks, ds, **options) -> dict | None:
     ok = [t for t, s in zip(tasks, ds["status"].values, strict=True) if s == "ok"]
     if len(ok) < 2:
         return None
-    records = _Records([t.path for t in ok])  # read one at a time, by the fit
+    records = _Records(ok)  # read one at a time, by the fit
     scenes = [
         Scene.from_dict(json.loads(str(j)))
         for j, s in zip(ds["scene_json"].values, ds["status"].values, strict=True)
@@ -70,17 +69,17 @@ def joint_fit(tasks, ds, **options) -> dict | None:
 
 
 class _Records(Sequence):
-    """The records of files, each read when asked for (:func:`pipeline.report.load_sample`):
-    the joint fit reads each once and keeps only what it fits."""
+    """The records of tasks, each read when asked for (:func:`read_task_record`): the
+    joint fit reads each once and keeps only what it fits."""
 
-    def __init__(self, paths):
-        self.paths = list(paths)
+    def __init__(self, tasks):
+        self.tasks = list(tasks)
 
     def __len__(self) -> int:
-        return len(self.paths)
+        return len(self.tasks)
 
     def __getitem__(self, i):
-        return load_sample(self.paths[i])
+        return read_task_record(self.tasks[i])
 
 
 def with_joint_fit(ds, tasks, **options):

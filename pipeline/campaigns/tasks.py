@@ -44,6 +44,7 @@ __all__ = [
     "record_files",
     "plan",
     "run_record",
+    "read_task_record",
     "record_numbers",
     "OUTCOMES",
     "FIT_PARAMETERS",
@@ -78,6 +79,9 @@ class RecordTask:
     report : str or None — folder to write the record's fit report into (``<stem>.ipynb``,
         read and written by the worker), None for no report
     report_html : bool — the report's HTML too
+    load : dict — keyword arguments of :func:`pipeline.io.load` for the record (a rig's
+        ``sensitivity``, ``axes``...), over its sidecar's ``"load"`` block
+        (:func:`read_task_record`)
     """
 
     name: str
@@ -89,6 +93,7 @@ class RecordTask:
     fit: bool = True
     report: str | None = None
     report_html: bool = True
+    load: dict = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -244,7 +249,15 @@ def task_fields(task: RecordTask) -> tuple[dict, list]:
 
 
 def plan(
-    paths, *, scenes=None, table=None, fit=True, reports=None, report_html=True, **options
+    paths,
+    *,
+    scenes=None,
+    table=None,
+    fit=True,
+    reports=None,
+    report_html=True,
+    load=None,
+    **options,
 ) -> list[RecordTask]:
     """The tasks of a campaign: one :class:`RecordTask` per record file.
 
@@ -277,12 +290,19 @@ def plan(
                 fit,
                 None if reports is None else str(Path(reports).resolve()),
                 report_html,
+                dict(load or {}),
             )
         )
     return tasks
 
 
 # ------------------------------------------------------------------ one record
+def read_task_record(task: RecordTask):
+    """The task's record: :func:`pipeline.report.load_sample` with the task's ``load``
+    options over its sidecar's."""
+    return load_sample(task.path, **task.load)
+
+
 def guarded(task: RecordTask, fn):
     """``fn(task)`` with the library's warnings collected and any failure caught.
 
@@ -379,7 +399,7 @@ def _analysis_of(task: RecordTask, **override) -> Analysed:
     """The record's :class:`~pipeline.analysis.Analysis` (its plausibility checks first;
     options overridden by ``override``), as ``pipeline analyse`` and ``reproduce`` run it,
     and its contact fit."""
-    rec = load_sample(task.path)
+    rec = read_task_record(task)
     scene, source = _task_scene(task, rec)
     a, notes = noted(analyse, rec, scene, **{**task.options, **override})
     f = fit_contact(rec, scene, **_boot(task)) if task.fit else None
@@ -412,7 +432,7 @@ def write_report(task: RecordTask, done: Analysed, *, reanalyse: bool = False):
     what running it gives. Returns the :class:`~pipeline.notebook_report.NotebookReport`.
     """
     a, notes, fit = done.analysis, done.notes, done.fit
-    rec = load_sample(task.path) if reanalyse or fit is None else None
+    rec = read_task_record(task) if reanalyse or fit is None else None
     if reanalyse:
         a, notes = noted(analyse, rec, a.scene, **task.options)
     if fit is None:
@@ -424,6 +444,7 @@ def write_report(task: RecordTask, done: Analysed, *, reanalyse: bool = False):
         task.report,
         notes=notes,
         options=task.options,
+        load=task.load,
         html=task.report_html,
         name=Path(task.name).stem,
     )

@@ -69,7 +69,8 @@ def parse_axes(text: str) -> dict:
 
 def parse_sensitivity_option(text: str) -> dict:
     """``--sensitivity``: ``Fn=0.225mV/N,Ft=4.4 N/V`` or a JSON object
-    ``{"Fn": [0.225, "mV/N"]}``; a decimal comma is read (``Fn=0,225 mV/N``)."""
+    ``{"Fn": [0.225, "mV/N"]}``; a decimal comma is read (``Fn=0,225 mV/N``). Returns the
+    sidecar's form, ``{"Fn": [0.225, "mV/N"]}``."""
     import re
 
     from ..io import parse_sensitivity
@@ -86,8 +87,8 @@ def parse_sensitivity_option(text: str) -> dict:
                     f"{part!r} is not CHANNEL=VALUE UNIT; write e.g. Fn=0.225mV/N,Ft=0.5mV/N"
                 )
             value[name.strip()] = spec.strip()
-    try:
-        return parse_sensitivity(value)
+    try:  # checked now (a bad one is argparse's one line); kept as JSON, as a sidecar's
+        return {k: [s.value, s.unit] for k, s in parse_sensitivity(value).items()}
     except InputError as exc:
         raise argparse.ArgumentTypeError(exc.reason) from None
 
@@ -122,6 +123,19 @@ def add_record_options(p) -> None:
     )
 
 
+#: The options :func:`add_record_options` adds, as :func:`pipeline.io.load` names them.
+LOAD_OPTIONS = ("time_unit", "force_unit", "axes", "decouple", "sensitivity")
+
+
+def load_options(args) -> dict:
+    """The :data:`LOAD_OPTIONS` given on the command line (the sidecar supplies the rest),
+    as JSON values (a manifest and a report's parameters cell hold them)."""
+    given = {k: v for k in LOAD_OPTIONS if (v := getattr(args, k, None)) is not None}
+    if "decouple" in given:
+        given["decouple"] = str(given["decouple"])
+    return given
+
+
 #: Files above this size are read keeping only the contact and its margins
 #: (pipeline.io.load_contact): memory stays bounded whatever the file's length.
 BIG_FILE = 64 << 20
@@ -136,15 +150,7 @@ def read_record(path, args):
         big = Path(path).stat().st_size > BIG_FILE
     except OSError:
         big = False  # the reader says what is wrong with the path
-    return load_sample(
-        path,
-        contact_only=big,
-        time_unit=args.time_unit,
-        force_unit=args.force_unit,
-        axes=args.axes,
-        decouple=args.decouple,
-        sensitivity=args.sensitivity,
-    )
+    return load_sample(path, contact_only=big, **load_options(args))
 
 
 def read_scene(record_path, scene_path=None, record=None):

@@ -14,7 +14,7 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
-from ._common import EXIT_FAILED_RECORDS, log_warnings
+from ._common import EXIT_FAILED_RECORDS, add_record_options, load_options, log_warnings
 from ._options import add_progress, nonneg_int, pos_int, progress_bar
 
 
@@ -67,6 +67,7 @@ def register(sub) -> None:
     p.add_argument("--no-fit", action="store_true", help="do not fit contact parameters per record")
     p.add_argument("--no-reports", action="store_true", help="do not write the report notebooks")
     p.add_argument("--no-html", action="store_true", help="write the report notebooks without HTML")
+    add_record_options(p)
     add_progress(p)
     p.set_defaults(func=run_campaign)
 
@@ -81,6 +82,7 @@ def run_campaign(args) -> int:
     base = read_scene_fields(args.scene) if args.scene else None
     files = record_files(args.paths)
     options = {"n_boot": args.boot, "seed": args.seed}
+    load = load_options(args)
     # the whole folder is staged and swapped in with one rename (as pipeline reproduce); the
     # records' reports are written into it as the records are analysed
     with atomic_dir(args.out) as stage, log_warnings():
@@ -96,13 +98,16 @@ def run_campaign(args) -> int:
                 progress=lambda r: bar.update(1),
                 reports=None if args.no_reports else stage / "reports",
                 report_html=not args.no_html,
+                load=load,
                 **options,
             )
         ds.attrs["source"] = " ".join(args.paths)
         write_campaign(ds, stage)
         if not args.no_reports:
             _campaign_report(args, stage)
-        write_manifest(stage, paths=list(args.paths), n_boot=args.boot, seed=args.seed)
+        write_manifest(
+            stage, paths=list(args.paths), n_boot=args.boot, seed=args.seed, load=load
+        )
     ok = int((ds["status"] == "ok").sum())
     print(
         f"{ok}/{ds.sizes['record']} records analysed in {time.perf_counter() - t0:.1f} s "

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ._common import read_scene
+from ._common import add_record_options, load_options, read_scene
 from ._options import add_progress, nonneg_int, progress_bar
 
 
@@ -37,6 +37,7 @@ def register(sub) -> None:
         help="execute a record's notebook in a fresh Jupyter kernel instead of rendering "
         "it from this process's analysis (the same notebook, seconds slower)",
     )
+    add_record_options(p)
     add_progress(p)
     p.set_defaults(func=run)
 
@@ -48,6 +49,13 @@ def run(args) -> int:
 
     if not args.file.is_file():
         raise InputError("no such file; check the path", path=args.file)
+    load = load_options(args)
+    if args.file.suffix == ".nc" and load:
+        raise InputError(
+            f"--{next(iter(load)).replace('_', '-')} says how to read a record; a campaign's "
+            "records were read when it ran (pipeline campaign takes it)",
+            path=args.file,
+        )
     # the notebook and its HTML go in together (the previous pair stays on a fault)
     with progress_bar(args, total=1, desc="report") as bar, atomic_files(args.out):
         if args.file.suffix == ".nc":
@@ -55,11 +63,12 @@ def run(args) -> int:
         else:
             from ..report import load_sample
 
-            scene, _ = read_scene(args.file, args.scene, load_sample(args.file))
+            scene, _ = read_scene(args.file, args.scene, load_sample(args.file, **load))
             r = record_report(
                 args.file,
                 args.out,
                 scene=scene,
+                load=load,
                 n_boot=args.boot,
                 seed=args.seed,
                 html=not args.no_html,

@@ -25,6 +25,7 @@ scene_json = ""  # Scene fields as JSON (SI units); "" = the record's sidecar sc
 n_boot = 200  # bootstrap replicates for the uncertainties
 seed = 0  # bootstrap seed
 analyse_options = {}  # other keyword arguments of pipeline.analyse (degree, source, ...)
+load_options = {}  # keyword arguments of pipeline.io.load over the sidecar's (sensitivity, ...)
 
 # %% tags=["verdict"]
 # %matplotlib inline
@@ -47,7 +48,7 @@ from pipeline.tables import (
     view,
 )
 
-rec = load_sample(record)
+rec = load_sample(record, **load_options)
 scene = Scene.from_dict(json.loads(scene_json)) if scene_json else scene_from_sidecar(record)
 if scene is None:
     raise ValueError(f"{record}: no scene; give scene_json or put a sidecar beside the record")
