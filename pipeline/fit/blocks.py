@@ -158,10 +158,7 @@ def _evaluate(
     chi2 = np.empty(R)
     blocks, parts = None, None
     if jacobian:
-        po = D.shape[2] - ps
-        shapes = {"ss": (ps, ps), "sl": (ps, po), "ll": (po, po), "gs": (ps,), "gl": (po,)}
-        blocks = {k: np.empty((R,) + v) for k, v in shapes.items()}
-        parts = [None] * R
+        blocks, parts = _empty_blocks(R, ps, D.shape[2] - ps), [None] * R
     a = 0
     for c2, b, p in _mapped(executor, _chunk, jobs):
         n = c2.size
@@ -187,15 +184,7 @@ def _chunk(model, chunk, rows, D, active, ps):
     if D is None:
         r, _ = model.residuals(chunk, Ps)
         return np.array([float(x[0] @ x[0]) for x in r]), None, None
-    po = D.shape[2] - ps
-    blocks = {
-        "ss": np.empty((n, ps, ps)),
-        "sl": np.empty((n, ps, po)),
-        "ll": np.empty((n, po, po)),
-        "gs": np.empty((n, ps)),
-        "gl": np.empty((n, po)),
-    }
-    parts = [None] * n
+    blocks, parts = _empty_blocks(n, ps, D.shape[2] - ps), [None] * n
     r, Jl, _ = local_jacobians(model, chunk, Ps, active)
     for i, (d, ri, Ji) in enumerate(zip(chunk, r, Jl, strict=True)):
         ri = ri[0]
@@ -208,6 +197,12 @@ def _chunk(model, chunk, rows, D, active, ps):
         blocks["gl"][i] = Jo.T @ ri
         parts[i] = misfit_part(ri, d)
     return np.array([p.chi2 for p in parts]), blocks, parts
+
+
+def _empty_blocks(n, ps, po) -> dict:
+    """Room for the normal-equation blocks of ``n`` records (:class:`_Evaluation`)."""
+    shapes = {"ss": (ps, ps), "sl": (ps, po), "ll": (po, po), "gs": (ps,), "gl": (po,)}
+    return {k: np.empty((n,) + v) for k, v in shapes.items()}
 
 
 #: Chunks in flight at once in an executor (their records travel with them: ~1.4 MB each).
