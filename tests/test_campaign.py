@@ -349,10 +349,13 @@ def test_dask_run_is_byte_identical_to_serial(lab, tmp_path):
     )
 
 
-def test_a_campaign_fitted_on_dask_is_the_serial_one(lab, tmp_path):
-    """With the contact fits and the joint fit (whose evaluations run on the workers too),
-    the 2-worker run's Dataset is the serial one, byte for byte."""
+def test_a_campaign_fitted_on_dask_is_the_serial_one(lab, tmp_path, monkeypatch):
+    """With the contact fits and the joint fit (whose evaluations run on the workers too:
+    a record a chunk here), the 2-worker run's Dataset is the serial one, byte for byte."""
     pytest.importorskip("distributed")
+    from pipeline.fit import store
+
+    monkeypatch.setattr(store, "CHUNK", 1)
     folder, _ = lab
     files = [folder / "run0_15deg_0.6ms.csv", folder / "run3_60deg_0.3ms.csv"]
     files.append(folder / "bad_scene.csv")

@@ -243,15 +243,24 @@ def test_the_joint_fit_in_an_executor_is_the_same_fit(constant_e):
     client's executor) give the same fit: every value within 1e-9 of its standard error."""
     from concurrent.futures import ThreadPoolExecutor
 
+    class Counted(ThreadPoolExecutor):
+        jobs = 0
+
+        def submit(self, fn, *args, **kwargs):
+            Counted.jobs += 1
+            assert isinstance(args[1], bytes)  # the chunk as the store wrote it
+            return super().submit(fn, *args, **kwargs)
+
     blocks, scenes, recs = constant_e
     with (
         warnings.catch_warnings(),
         pytest.MonkeyPatch.context() as mp,
-        ThreadPoolExecutor(2) as executor,
+        Counted(2) as executor,
     ):
         warnings.simplefilter("ignore", PipelineWarning)
         mp.setattr(store, "CHUNK", 1)
         fit = fit_campaign(recs, scenes, mu_law="linear_vt0", hypotheses="one", executor=executor)
+    assert Counted.jobs >= 4 * fit.result.nfev  # every record at every evaluation
     assert fit.chi2 == pytest.approx(blocks.chi2, rel=1e-12)
     for name in ("E_eff", "e", "mu_a", "mu_b", "kt_scale_0", "t0_2"):
         assert abs(fit.values[name] - blocks.values[name]) < 1e-9 * blocks.stderr[name], name

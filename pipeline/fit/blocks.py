@@ -54,7 +54,7 @@ import numpy as np
 
 from .engine import local_jacobians
 from .procedure import misfit_part
-from .store import CHUNK, chunks_of, load_chunk
+from .store import CHUNK, chunk_count, chunks_of, load_chunk
 
 __all__ = ["BlockCovariance", "BlockResult", "solve_blocks", "CHUNK"]
 _TOL = 1e-6
@@ -357,8 +357,8 @@ def solve_blocks(
     lower, upper : numpy.ndarray — bounds (steps are clipped to them)
     max_iter : int — most iterations
     executor : concurrent.futures.Executor, optional — evaluates the chunks of records in
-        its processes (a dask ``Client.get_executor()``), a few at a time; the records
-        travel as the store wrote them
+        its processes (a dask ``Client.get_executor()``), a few at a time, where there are
+        two chunks or more; the records travel as the store wrote them
 
     Returns
     -------
@@ -366,6 +366,8 @@ def solve_blocks(
     """
     theta = np.array(theta0, dtype=float)
     varied = np.asarray(varied, dtype=bool)
+    if executor is not None and chunk_count(datas, CHUNK) < 2:
+        executor = None  # one chunk: nothing to share, only the round trips to pay
     shared, own = _blocks(design, theta, varied)
     scale = np.asarray(design.scale, dtype=float)
     lam = 1e-3

@@ -281,6 +281,12 @@ def load_chunk(blob: bytes) -> list:
     return [unpack(s) for s in pickle.loads(blob)]
 
 
+def chunk_count(datas, size: int = CHUNK) -> int:
+    """How many chunks :func:`chunks_of` gives."""
+    size = datas.chunk if isinstance(datas, RecordStore) else size
+    return -(-len(datas) // size)
+
+
 def chunks_of(datas, size: int = CHUNK, *, packed: bool = False):
     """``(start, size, records)`` chunks of a :class:`RecordStore` or of a list of records;
     with ``packed``, a store's chunks as written (bytes, for :func:`load_chunk`)."""
