@@ -49,6 +49,11 @@ on disk (:mod:`pipeline.fit.store`), so no process's memory grows with the recor
 a few kB a record. ``batched=True`` analyses the records in this process with the
 bootstrap of all records in one vectorised pass (:mod:`pipeline.campaigns.batch`).
 
+Overview (:mod:`pipeline.campaigns.overview`): :func:`write_overview` writes the page a
+reader explores in a browser — every record a point in e_t(α), μ(v_t0) and the deviation
+from rigid theory, its name and values on hover, its report on a click — one HTML file that
+needs no server and no network (``pipeline campaign`` writes it as ``overview.html``).
+
 References
 ----------
 P. P. Garland, R. J. Rogers, J. Appl. Mech. 76:031015 (2009), doi:10.1115/1.3086432
@@ -71,6 +76,7 @@ from ..notebook_report import ReportWarning
 from .batch import analyse_tasks
 from .dataset import Gathered, assemble, table_of, trends, with_trends, write_campaign
 from .joint import joint_fit, with_joint_fit
+from .overview import write_overview
 from .run import connect, iter_results, run_tasks
 from .tasks import (
     FIT_PARAMETERS,
@@ -99,6 +105,7 @@ __all__ = [
     "with_trends",
     "table_of",
     "write_campaign",
+    "write_overview",
     "joint_fit",
     "with_joint_fit",
     "OUTCOMES",

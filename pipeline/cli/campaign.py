@@ -4,7 +4,9 @@ Writes ``campaign.nc`` (the Dataset of :func:`pipeline.campaign`), ``campaign.cs
 per record), the campaign figures, and under ``reports/`` one fit-report notebook per
 analysed record (``<record>.ipynb`` and ``.html``, rendered from the campaign's own analysis
 where the record is analysed) and the campaign's own (``campaign.ipynb``, ``.html``,
-executed), and ``manifest.json``; the folder is staged and swapped in whole. A record that
+executed), the overview a reader explores in a browser (``overview.html``: every record a
+point, hover for its values, click for its report), and ``manifest.json``; the folder is
+staged and swapped in whole. A record that
 fails is listed with its reason; exit status 0 when every record was analysed, 1 when some
 failed (the rest are in the outputs), 2 for bad input.
 """
@@ -65,8 +67,16 @@ def register(sub) -> None:
         help="analyse in this process with one vectorised bootstrap for all records",
     )
     p.add_argument("--no-fit", action="store_true", help="do not fit contact parameters per record")
-    p.add_argument("--no-reports", action="store_true", help="do not write the report notebooks")
-    p.add_argument("--no-html", action="store_true", help="write the report notebooks without HTML")
+    p.add_argument(
+        "--no-reports",
+        action="store_true",
+        help="do not write the report notebooks (nor the overview)",
+    )
+    p.add_argument(
+        "--no-html",
+        action="store_true",
+        help="write the report notebooks without HTML (and no overview)",
+    )
     add_record_options(p)
     add_progress(p)
     p.set_defaults(func=run_campaign)
@@ -75,6 +85,7 @@ def register(sub) -> None:
 def run_campaign(args) -> int:
     from .._atomic import atomic_dir
     from ..campaigns import campaign, record_files, write_campaign
+    from ..campaigns.overview import OVERVIEW, write_overview
     from ..report import write_manifest
     from ..scene import read_scene_fields
 
@@ -105,6 +116,9 @@ def run_campaign(args) -> int:
         write_campaign(ds, stage)
         if not args.no_reports:
             _campaign_report(args, stage)
+        if not (args.no_reports or args.no_html):
+            # after the reports: each record's point links its report where there is one
+            write_overview(ds, stage / OVERVIEW, reports=stage / "reports")
         write_manifest(
             stage, paths=list(args.paths), n_boot=args.boot, seed=args.seed, load=load
         )
