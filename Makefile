@@ -30,20 +30,26 @@ test-loaded: $(STAMP)
 	MPLCONFIGDIR=$$(mktemp -d) $(PY) scripts/loaded.py $(PY) -m pytest -q
 
 # The numeric tests again with NumPy's SIMD dispatch narrowed to its baseline: every
-# dispatched feature this CPU has is disabled, so sums are taken in another order.
+# dispatched feature this CPU has is disabled, so sums are taken in another order (not the
+# pages in the browser, nor the docs and kill tests: no numerics of their own).
 test-narrow-simd: $(STAMP)
 	@feats="$$($(PY) scripts/simd_features.py)"; echo "NPY_DISABLE_CPU_FEATURES=$$feats"; \
 	NPY_DISABLE_CPU_FEATURES="$$feats" MPLCONFIGDIR=$$(mktemp -d) $(PY) -m pytest -q \
-	  --ignore=tests/test_io_fuzz.py --ignore=tests/test_docs.py --ignore=tests/test_kill.py
+	  --ignore=tests/test_io_fuzz.py --ignore=tests/test_docs.py --ignore=tests/test_kill.py \
+	  --ignore=tests/test_browser.py
 
 # The property tests of every reader and the scene parser under the "fuzz" profile
 # (tests/conftest.py): over 10,000 examples, about a minute.
 test-fuzz: $(STAMP)
 	HYPOTHESIS_PROFILE=fuzz MPLCONFIGDIR=$$(mktemp -d) $(PY) -m pytest -q tests/test_io_fuzz.py
 
+# The seed paper's figures and findings, then a campaign of the samples (its reports and
+# overview); the campaign's pages are then opened in headless Chromium, checked as a reader
+# sees them, and screenshotted into build/browser/ (skipped, saying so, without Chromium).
 reproduce: $(STAMP)
 	MPLCONFIGDIR=$$(mktemp -d) $(PY) -m pipeline.cli reproduce --samples data_samples --out build/reproduce
 	MPLCONFIGDIR=$$(mktemp -d) $(PY) -m pipeline.cli campaign data_samples --out build/campaign
+	$(PY) scripts/browser.py build/campaign --shots build/browser
 
 # The documentation site: the user guide (docs/*.md), the examples' gallery (examples/, each
 # script run), the API reference from the docstrings. Warnings are errors. Open
