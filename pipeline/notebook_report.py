@@ -629,18 +629,32 @@ def record_report(
     return NotebookReport(r.ipynb, r.html, time.perf_counter() - t0)
 
 
-def campaign_report(dataset, out_dir, *, html: bool = True) -> NotebookReport:
+def campaign_report(dataset, out_dir, *, html: bool = True, overview=None) -> NotebookReport:
     """Execute the campaign report for a campaign's netCDF file (``campaign.nc``).
 
     Writes ``campaign.ipynb`` and ``campaign.html`` into ``out_dir``.
+
+    Parameters
+    ----------
+    dataset : path — the campaign's netCDF file
+    out_dir : path — the folder of the report
+    html : bool — also render HTML
+    overview : path, optional — the campaign's overview page
+        (:func:`pipeline.campaigns.write_overview`), linked from the report; default
+        ``overview.html`` beside the dataset where there is one
     """
     dataset = Path(dataset).resolve()
     if not dataset.is_file():
         raise InputError("no such campaign file; run pipeline campaign first", path=dataset)
     out_dir = make_dirs(out_dir)
-    # relative to the notebook (which runs in its own folder), so the pair can move together
-    rel = os.path.relpath(dataset, out_dir.resolve())
-    return execute(TEMPLATES["campaign"], {"dataset": rel}, out_dir / "campaign.ipynb", html=html)
+    if overview is None and dataset.with_name("overview.html").is_file():
+        overview = dataset.with_name("overview.html")
+    # relative to the notebook (which runs in its own folder), so they can move together
+    parameters = {"dataset": os.path.relpath(dataset, out_dir.resolve())}
+    if overview is not None:
+        rel = os.path.relpath(Path(overview).resolve(), out_dir.resolve())
+        parameters["overview"] = Path(rel).as_posix()
+    return execute(TEMPLATES["campaign"], parameters, out_dir / "campaign.ipynb", html=html)
 
 
 def _json_scene(scene) -> dict:

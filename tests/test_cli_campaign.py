@@ -98,6 +98,7 @@ def test_campaign_command_writes_dataset_figures_and_reports(tmp_path):
     assert (camp / "campaign.nc").is_file() and (camp / "campaign.csv").is_file()
     manifest = json.loads((camp / "manifest.json").read_text())
     assert "campaign.nc" in manifest["files"] and "reports/campaign.html" in manifest["files"]
+    assert "overview.html" in manifest["files"]  # the records to explore in a browser
     assert not list(tmp_path.glob(".camp.*")), "the staging folder was swapped in"
     assert {p.name for p in camp.glob("campaign_*.png")} >= {"campaign_outcomes.png"}
     reports = camp / "reports"

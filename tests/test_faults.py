@@ -317,6 +317,11 @@ COMMANDS = {
         "dir",
         [(errno.ENOSPC, "data"), (errno.EACCES, ("mkdir", "reports"))],
     ),
+    "campaign-html": (  # the reports' HTML, the campaign's executed report, the overview
+        ["campaign", str(REC), "--boot", "0", "--no-fit", "--out", "OUT"],
+        "dir",
+        [(errno.ENOSPC, ("write", "overview.html"))],
+    ),
     "reproduce": (
         ["reproduce", "--samples", "SAMPLES", "--boot", "0", "--out", "OUT"],
         "dir",

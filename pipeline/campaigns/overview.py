@@ -35,6 +35,7 @@ import xarray as xr
 from .._atomic import atomic_write_text
 from ..errors import InputError
 from ..figures.style import COLORS
+from ..precision import pdg, plain
 from ..score import NEAR_ZERO
 
 __all__ = ["write_overview", "overview_html", "OVERVIEW"]
@@ -84,7 +85,9 @@ _PANELS = (
 )
 
 
-def _bokeh():
+def require_bokeh() -> None:
+    """Raise :class:`~pipeline.errors.InputError` (saying what to install) where bokeh is
+    missing; ``pipeline campaign`` asks before its run, not after it."""
     try:
         import bokeh  # noqa: F401
     except ImportError:
@@ -95,15 +98,11 @@ def _bokeh():
 
 
 def _pm(value: float, std: float, unit: str = "") -> str:
-    """``value ± std`` rounded to the uncertainty (PDG rule), or the value alone."""
-    from uncertainties import ufloat  # TEMP until pipeline.precision lands
-
+    """``value ± std`` rounded to the uncertainty (:func:`pipeline.precision.pdg`), or the
+    value alone at :data:`pipeline.precision.PLAIN_DIGITS` significant digits; "–" for none."""
     if not math.isfinite(value):
         return "–"
-    if math.isfinite(std) and std > 0:
-        text = f"{ufloat(value, std):P}".replace("±", " ± ")
-    else:
-        text = f"{value:.3g}"
+    text = pdg(value, std) if math.isfinite(std) and std > 0 else plain(value)
     return f"{text} {unit}".rstrip()
 
 
@@ -124,9 +123,7 @@ def _rows(ds: xr.Dataset, links: dict) -> dict:
     names = [str(n) for n in ds["record"].values[idx]]
     speed = col("speed")
     e_fit, e_fit_std = col("fit_E_eff") / 1e9, col("fit_E_eff_std") / 1e9
-    notes = [
-        sum(1 for w in str(ds["warnings"].values[i]).splitlines() if w.strip()) for i in idx
-    ]
+    notes = [sum(1 for w in str(ds["warnings"].values[i]).splitlines() if w.strip()) for i in idx]
     return {
         "record": names,
         "url": [links.get(n, "") for n in names],
@@ -295,6 +292,7 @@ def _figures(rows: dict, trends: dict):
         legend.click_policy = "hide"
         p.add_layout(legend, "below")
         p.toolbar.logo = None
+        p.x_range.range_padding = p.y_range.range_padding = 0.12  # no point on the frame
         panels[key] = p
     return panels
 
@@ -324,7 +322,7 @@ def overview_html(ds: xr.Dataset, *, links: dict | None = None, title: str | Non
         The page: the panels with BokehJS inlined, the failed records listed with their
         reasons.
     """
-    _bokeh()
+    require_bokeh()
     from bokeh.embed import components
     from bokeh.resources import Resources
 
@@ -370,9 +368,7 @@ def overview_html(ds: xr.Dataset, *, links: dict | None = None, title: str | Non
         + (f", <b>{n - ok} failed</b> (listed below)" if ok < n else "")
         + ". Hover a point for its record and values (rounded to their 1-σ uncertainty); "
         "click it to open the record's report; the three panels show the same records, "
-        "selected together. The toolbar zooms and pans; ↻ resets."
-        + campaign_link
-        + "</p>"
+        "selected together. The toolbar zooms and pans; ↻ resets." + campaign_link + "</p>"
     )
     table = ""
     if failed:
@@ -399,7 +395,7 @@ def overview_html(ds: xr.Dataset, *, links: dict | None = None, title: str | Non
 
 
 def _num(x, unit: str) -> str:
-    return f"{x:g}{unit}" if np.isfinite(x) else "?"
+    return f"{x:g}{unit}" if np.isfinite(x) else "–"
 
 
 def write_overview(ds: xr.Dataset, path, *, reports=None) -> Path:

@@ -85,11 +85,13 @@ def register(sub) -> None:
 def run_campaign(args) -> int:
     from .._atomic import atomic_dir
     from ..campaigns import campaign, record_files, write_campaign
-    from ..campaigns.overview import OVERVIEW, write_overview
+    from ..campaigns.overview import OVERVIEW, require_bokeh, write_overview
     from ..report import write_manifest
     from ..scene import read_scene_fields
 
     t0 = time.perf_counter()
+    if not (args.no_reports or args.no_html):
+        require_bokeh()  # now, not after the campaign
     base = read_scene_fields(args.scene) if args.scene else None
     files = record_files(args.paths)
     options = {"n_boot": args.boot, "seed": args.seed}
@@ -114,11 +116,12 @@ def run_campaign(args) -> int:
             )
         ds.attrs["source"] = " ".join(args.paths)
         write_campaign(ds, stage)
+        overview = None if args.no_reports or args.no_html else stage / OVERVIEW
         if not args.no_reports:
-            _campaign_report(args, stage)
-        if not (args.no_reports or args.no_html):
+            _campaign_report(args, stage, overview)
+        if overview is not None:
             # after the reports: each record's point links its report where there is one
-            write_overview(ds, stage / OVERVIEW, reports=stage / "reports")
+            write_overview(ds, overview, reports=stage / "reports")
         write_manifest(
             stage, paths=list(args.paths), n_boot=args.boot, seed=args.seed, load=load
         )
@@ -135,11 +138,13 @@ def run_campaign(args) -> int:
     return EXIT_FAILED_RECORDS if ok < ds.sizes["record"] else 0
 
 
-def _campaign_report(args, out: Path) -> None:
+def _campaign_report(args, out: Path, overview: Path | None) -> None:
     """Execute the campaign's own report (one kernel) beside the records' (a progress bar
-    of one)."""
+    of one), linking the overview written next."""
     from ..notebook_report import campaign_report
 
     with progress_bar(args, total=1, desc="campaign report") as bar:
-        campaign_report(out / "campaign.nc", out / "reports", html=not args.no_html)
+        campaign_report(
+            out / "campaign.nc", out / "reports", html=not args.no_html, overview=overview
+        )
         bar.update(1)

@@ -21,6 +21,7 @@
 
 # %% tags=["parameters"]
 dataset = "build/campaign/campaign.nc"  # the campaign's netCDF file
+overview = ""  # the campaign's overview page, relative to this notebook ("": none)
 
 # %% tags=["verdict"]
 # %matplotlib inline
@@ -41,6 +42,13 @@ from pipeline.tables import (
 
 ds = xr.load_dataset(dataset, engine="h5netcdf")
 display(Markdown(campaign_verdict(ds)))
+if overview:
+    display(
+        Markdown(
+            f"Every record as a point to explore — hover for its values, click for its "
+            f"report: [the campaign's overview]({overview})."
+        )
+    )
 
 # %% [markdown]
 # ## Every record
