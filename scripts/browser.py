@@ -217,8 +217,10 @@ class Browser:
     def __init__(self, executable: str | None = None, *, width: int = 1280, height: int = 900):
         self.executable = executable or chromium()
         if self.executable is None:
-            raise RuntimeError(f"no Chromium: install it (apt-get install chromium) or set "
-                               f"PIPELINE_CHROMIUM (looked at {CHROMIUM} and the PATH)")
+            raise RuntimeError(
+                f"no Chromium: install it (apt-get install chromium) or set "
+                f"PIPELINE_CHROMIUM (looked at {CHROMIUM} and the PATH)"
+            )
         self.viewport = {"width": width, "height": height}
         self._pw = self._browser = self._page = None
 
@@ -268,8 +270,10 @@ class Browser:
         page.on("pageerror", lambda e: events.problems.append(f"uncaught exception: {e}"))
         page.on(
             "requestfailed",
-            lambda r: r.url.startswith("file:")
-            and events.problems.append(f"cannot load {_short(r.url)} ({r.failure})"),
+            lambda r: (
+                r.url.startswith("file:")
+                and events.problems.append(f"cannot load {_short(r.url)} ({r.failure})")
+            ),
         )
         page.events = events
         return page

@@ -26,7 +26,7 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLES = ROOT / "data_samples"
-SHOTS = ROOT / "build" / "browser"
+SHOTS = ROOT / "build" / "browser" / "tests"  # make reproduce's are in build/browser
 DOCS = ROOT / "build" / "docs" / "html"
 
 sys.path.insert(0, str(ROOT / "scripts"))
