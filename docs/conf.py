@@ -91,10 +91,10 @@ html_static_path = ["_static"]
 html_css_files = ["custom.css"]
 html_show_sourcelink = False
 html_copy_source = False
+# the colour mode stated (the theme reads it from the context), so that its script finds a
+# mode it knows: left empty, it logs a console error on every page ("Got invalid theme mode")
+html_context = {"default_mode": "auto"}
 html_theme_options = {
-    # stated, so that the theme's script finds a mode it knows (left empty, it logs a
-    # console error on every page: "Got invalid theme mode")
-    "default_mode": "auto",
     "navbar_align": "left",
     "show_toc_level": 2,
     "navigation_with_keys": False,

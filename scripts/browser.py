@@ -282,10 +282,10 @@ class Browser:
         """Open ``path`` in ``page`` and wait until it has drawn (its images decoded, a
         Bokeh document idle)."""
         page.goto(Path(path).resolve().as_uri(), wait_until="load")
-        page.wait_for_function(
-            "() => !window.Bokeh || (Bokeh.documents.length > 0 && "
-            "Bokeh.documents.every((d) => d.is_idle))"
-        )
+        if page.evaluate("() => Boolean(window.Bokeh)"):  # BokehJS draws after the load
+            page.wait_for_function(
+                "() => Bokeh.documents.length > 0 && Bokeh.documents.every((d) => d.is_idle)"
+            )
         page.evaluate(
             "() => Promise.all([...document.images].map((i) => i.decode().catch(() => null)))"
         )
