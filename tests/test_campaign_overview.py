@@ -78,6 +78,7 @@ def test_failed_records_and_missing_values_are_named(ds):
     assert "a record needs at least two time samples" in failed  # its reason
     mu_panel = re.search(r'<div class="panel" id="mu">(.*?)</div>\s*<div class="panel"', page, re.S)
     assert "Not shown here (no μ): gr_45deg_0.3ms.csv" in mu_panel.group(1)
+    assert "The campaign's friction law: μ = " in mu_panel.group(1)
     assert page.count("Not shown here") == 1
 
 

@@ -27,6 +27,7 @@ from __future__ import annotations
 import html
 import json
 import math
+import os
 from pathlib import Path
 
 import numpy as np
@@ -183,8 +184,6 @@ def _links(ds: xr.Dataset, page: Path, reports: Path | None) -> dict:
 
 
 def _relative(path: Path, start: Path) -> str:
-    import os
-
     return os.path.relpath(path.resolve(), start.resolve())
 
 
@@ -200,8 +199,7 @@ def _figures(rows: dict, trends: dict):
     from bokeh.plotting import figure
     from bokeh.transform import factor_cmap, factor_mark
 
-    data = {k: v for k, v in rows.items()}
-    source = ColumnDataSource(data, name="records")
+    source = ColumnDataSource(rows, name="records")
     factors = sorted(set(rows["group"]), key=lambda g: float(g.split()[0]))
     colors = [_GROUP_STYLES[k % len(_GROUP_STYLES)][0] for k in range(len(factors))]
     markers = [_GROUP_STYLES[k % len(_GROUP_STYLES)][1] for k in range(len(factors))]
@@ -252,7 +250,7 @@ def _figures(rows: dict, trends: dict):
                     a + b * xx,
                     color=COLORS["fit"],
                     line_width=1.5,
-                    legend_label=f"law: μ = {a:.3f} + {b:.3f}·v_t0",
+                    legend_label="the campaign's law (below)",
                 )
         if key == "score" and np.isfinite(rows[x]).any():
             p.line(
@@ -335,14 +333,22 @@ def overview_html(ds: xr.Dataset, *, links: dict | None = None, title: str | Non
     trends = json.loads(ds.attrs.get("trends_json", "{}"))
     panels = _figures(rows, trends)
     script, divs = components(panels)
-    missing = _missing(rows)
-    cells = []
-    for key, *_, heading, what in _PANELS:
-        note = ""
-        if missing[key]:
-            names = ", ".join(html.escape(m) for m in missing[key])
-            note = f'<p class="missing">Not shown here ({what}): {names}</p>'
-        cells.append(f'<div class="panel" id="{key}"><h2>{heading}</h2>{divs[key]}{note}</div>')
+    notes = {key: [] for key, *_ in _PANELS}
+    law = trends.get("friction", {})
+    if law.get("mu_a") is not None and law.get("mu_b") is not None:
+        a = _pm(law["mu_a"], law.get("mu_a_std", math.nan))
+        b = _pm(law["mu_b"], law.get("mu_b_std", math.nan), "s/m")
+        notes["mu"].append(f"The campaign's friction law: μ = {a} + ({b})·v<sub>t0</sub>.")
+    for key, names in _missing(rows).items():
+        if names:
+            what = next(p[-1] for p in _PANELS if p[0] == key)
+            notes[key].append(f"Not shown here ({what}): {', '.join(map(html.escape, names))}")
+    cells = [
+        f'<div class="panel" id="{key}"><h2>{heading}</h2>{divs[key]}'
+        + "".join(f'<p class="note">{n}</p>' for n in notes[key])
+        + "</div>"
+        for key, *_, heading, _ in _PANELS
+    ]
     failed = [
         (str(r), str(why), a, v)
         for r, s, why, a, v in zip(
@@ -368,7 +374,8 @@ def overview_html(ds: xr.Dataset, *, links: dict | None = None, title: str | Non
         + (f", <b>{n - ok} failed</b> (listed below)" if ok < n else "")
         + ". Hover a point for its record and values (rounded to their 1-σ uncertainty); "
         "click it to open the record's report; the three panels show the same records, "
-        "selected together. The toolbar zooms and pans; ↻ resets." + campaign_link + "</p>"
+        "selected together. The toolbar zooms and pans, ↻ resets; a click on a legend's "
+        "entry hides those records." + campaign_link + "</p>"
     )
     table = ""
     if failed:
@@ -446,7 +453,7 @@ p.lead {{ max-width: 60em; line-height: 1.4; }}
 .panels {{ display: grid; gap: 1em;
            grid-template-columns: repeat(auto-fit, minmax(320px, 1fr)); }}
 .panel {{ min-width: 0; }}
-p.missing {{ font-size: 0.85em; color: #555; }}
+p.note {{ font-size: 0.85em; color: #555; margin: 0.3em 0; }}
 table.failed {{ border-collapse: collapse; font-size: 0.9em; }}
 table.failed td, table.failed th {{ border-bottom: 1px solid #ddd; padding: 0.3em 0.8em;
                                     text-align: left; vertical-align: top; }}

@@ -6,9 +6,9 @@ analysed record (``<record>.ipynb`` and ``.html``, rendered from the campaign's 
 where the record is analysed) and the campaign's own (``campaign.ipynb``, ``.html``,
 executed), the overview a reader explores in a browser (``overview.html``: every record a
 point, hover for its values, click for its report), and ``manifest.json``; the folder is
-staged and swapped in whole. A record that
-fails is listed with its reason; exit status 0 when every record was analysed, 1 when some
-failed (the rest are in the outputs), 2 for bad input.
+staged and swapped in whole. A record that fails is listed with its reason; exit status 0
+when every record was analysed, 1 when some failed (the rest are in the outputs), 2 for
+bad input.
 """
 
 from __future__ import annotations
