@@ -5,6 +5,7 @@ and answers in a browser: tests/test_browser.py."""
 
 from __future__ import annotations
 
+import json
 import re
 import shutil
 import sys
@@ -71,6 +72,8 @@ def test_failed_records_and_missing_values_are_named(ds):
     mu = ds["mu_record"].values.copy()
     mu[list(ds["record"].values).index("gr_45deg_0.3ms.csv")] = np.nan
     ds["mu_record"] = ("record", mu, ds["mu_record"].attrs)
+    law = {"mu_a": 0.1234, "mu_a_std": 0.0123, "mu_b": 0.2345, "mu_b_std": 0.0456}
+    ds.attrs["trends_json"] = json.dumps({"friction": law})  # two records fit no law
     page = overview_html(ds)
     assert "2 of 3 records analysed, <b>1 failed</b>" in page
     failed = re.search(r'<table class="failed">(.*?)</table>', page, flags=re.S).group(1)
@@ -78,7 +81,8 @@ def test_failed_records_and_missing_values_are_named(ds):
     assert "a record needs at least two time samples" in failed  # its reason
     mu_panel = re.search(r'<div class="panel" id="mu">(.*?)</div>\s*<div class="panel"', page, re.S)
     assert "Not shown here (no μ): gr_45deg_0.3ms.csv" in mu_panel.group(1)
-    assert "The campaign's friction law: μ = " in mu_panel.group(1)
+    law_text = "μ = 0.123 ± 0.012 + (0.23 ± 0.05 s/m)·v<sub>t0</sub>"  # rounded as the PDG
+    assert f"The campaign's friction law: {law_text}." in mu_panel.group(1)
     assert page.count("Not shown here") == 1
 
 
