@@ -26,10 +26,20 @@ the order the signal meets them on its way through the hardware:
    (±full_scale/2), mid-tread rounding to the step :math:`q = \text{full\_scale}/2^{bits}`;
    values beyond the range saturate at the end codes (with a warning).
 
-Not modelled: the piezo's high-pass discharge time constant (seconds, far longer than a
-sub-millisecond window), the transducer's mechanical resonance (assumed above
-``bandwidth``), gain errors of each axis (give a ``crosstalk`` matrix with a diagonal
-other than 1 to model them).
+   In series with it, where given, the **mounted transducer's mode** (the target and
+   the crystal a mass on a stiff spring: natural frequency ``resonance`` [Hz], damping
+   ratio ``damping_ratio``), :math:`H(s) = \omega_n^2/(s^2 + 2\zeta\omega_n s +
+   \omega_n^2)`: a short pulse rings after the contact at
+   :math:`\omega_d = \omega_n\sqrt{1-\zeta^2}`, decaying as :math:`e^{-\zeta\omega_n t}`
+   (logarithmic decrement :math:`2\pi\zeta/\sqrt{1-\zeta^2}`), and H(0) = 1 keeps the
+   percussion; and the **piezo's discharge** through the charge amplifier's time
+   constant ``discharge`` [s], a first-order high-pass :math:`H(s) = s/(s + 1/\tau)`: a
+   constant force decays as :math:`e^{-t/\tau}`, and after a pulse the signal undershoots
+   and recovers with τ. The whole chain is discretised at once, exactly for a
+   piecewise-linear input (:func:`foh_filter`).
+
+Not modelled: gain errors of each axis (give a ``crosstalk`` matrix with a diagonal other
+than 1 to model them).
 
 The output keeps the ideal record's clock: its ``time`` [s] is on the same axis as the
 input's, so a record simulated from first contact at t = 0 comes back with negative
@@ -42,12 +52,15 @@ Elastic Impact", J. Appl. Mech. 76:031015 (2009), doi:10.1115/1.3086432.
 S. Butterworth, "On the Theory of Filter Amplifiers", Wireless Engineer 7:536 (1930).
 G. F. Franklin, J. D. Powell, M. L. Workman, *Digital Control of Dynamic Systems*,
 3rd ed., Addison-Wesley (1998), §6.3.2 (first-order-hold equivalent).
+C. M. Harris, A. G. Piersol, *Harris' Shock and Vibration Handbook*, 5th ed., McGraw-Hill
+(2002), ch. 12 (piezoelectric transducers: mounted resonance, discharge time constant).
 """
 
 from __future__ import annotations
 
 import math
 import warnings
+from dataclasses import dataclass
 
 import numpy as np
 import xarray as xr
@@ -57,7 +70,15 @@ from .errors import InputError, PipelineWarning
 from .record import FORCE_CHANNELS, channel, make_record, validate
 from .scene import Scene
 
-__all__ = ["to_sensor", "butterworth_sos", "SENSOR_DEFAULTS", "SensorSaturationWarning"]
+__all__ = [
+    "to_sensor",
+    "butterworth_sos",
+    "sensor_zpk",
+    "foh_filter",
+    "FohFilter",
+    "SENSOR_DEFAULTS",
+    "SensorSaturationWarning",
+]
 
 #: Defaults of :func:`to_sensor`, plausible for the Garland–Rogers rig (docs/theory.md).
 SENSOR_DEFAULTS = {
@@ -72,6 +93,9 @@ SENSOR_DEFAULTS = {
     "crosstalk": 0.02,  # off-diagonal cross-talk entries drawn in ±2 %
     "pre_trigger": 100.0e-6,  # [s]
     "post_trigger": 200.0e-6,  # [s]
+    "resonance": math.inf,  # [Hz] mounted transducer's mode: none (far above the band)
+    "damping_ratio": 0.05,  # [-] of that mode: a bolted piezo transducer rings lightly
+    "discharge": math.inf,  # [s] charge amplifier's time constant: none (DC coupled)
 }
 
 _AXES = FORCE_CHANNELS  # ("Fn", "Ft", "Fy"): the order of every per-axis parameter
@@ -135,6 +159,127 @@ def butterworth_sos(order: int, bandwidth: float, dt: float) -> np.ndarray:
     return signal.tf2sos(b[0], a)
 
 
+def sensor_zpk(
+    bandwidth: float = math.inf,
+    filter_order: int = 2,
+    resonance: float = math.inf,
+    damping_ratio: float = 0.05,
+    discharge: float = math.inf,
+):
+    """Analogue zeros, poles [rad/s] and gain of the sensor chain (module notes).
+
+    The Butterworth low-pass of ``filter_order`` and ``bandwidth`` [Hz] (none if inf), in
+    series with the mounted mode ωn²/(s² + 2ζωn s + ωn²) at ``resonance`` [Hz] (none if
+    inf) of ``damping_ratio`` ζ [-], and the discharge s/(s + 1/τ) of time constant
+    ``discharge`` τ [s] (none if inf).
+
+    Returns
+    -------
+    z, p : numpy.ndarray (complex) — zeros and poles [rad/s]; k : float — gain
+    """
+    z, p, k = [], [], 1.0
+    if math.isfinite(bandwidth):
+        zb, pb, kb = signal.butter(filter_order, 2.0 * np.pi * bandwidth, analog=True, output="zpk")
+        z += list(zb)
+        p += list(pb)
+        k *= float(kb)
+    if math.isfinite(resonance):
+        wn = 2.0 * np.pi * resonance
+        zeta = float(damping_ratio)
+        root = np.sqrt(complex(zeta * zeta - 1.0))
+        p += [wn * (-zeta + root), wn * (-zeta - root)]
+        k *= wn * wn
+    if math.isfinite(discharge):
+        z.append(0.0)
+        p.append(-1.0 / discharge)
+    return np.asarray(z, dtype=complex), np.asarray(p, dtype=complex), k
+
+
+@dataclass(frozen=True, eq=False)
+class FohFilter:
+    r"""A linear analogue filter discretised exactly for a piecewise-linear input (first-order
+    hold), in parallel form: :math:`H(z) = D + \sum_i c_i\,(1 - z^{-1})/(1 - q_i z^{-1})`,
+    q_i = exp(p_i·dt) (:func:`foh_filter`). Call it on samples ``x`` (…, n), zero state.
+
+    Attributes
+    ----------
+    direct : float — D [-] (the analogue filter's gain at s → ∞ plus every pole's −r/p)
+    poles : numpy.ndarray — q_i of the real poles and of one pole of each complex pair
+    gains : numpy.ndarray — c_i
+    pair : numpy.ndarray of bool — the pole stands for a conjugate pair (its part doubled,
+        real part taken)
+    dt : float — the step [s]
+    """
+
+    direct: float
+    poles: np.ndarray
+    gains: np.ndarray
+    pair: np.ndarray
+    dt: float
+
+    def __call__(self, x, axis=-1):
+        x = np.asarray(x, dtype=float)
+        y = self.direct * x
+        for q, c, two in zip(self.poles, self.gains, self.pair, strict=True):
+            if two:
+                w = signal.lfilter([1.0, -1.0], [1.0, -q], x.astype(complex), axis=axis)
+                y = y + 2.0 * (c * w).real
+            else:
+                w = signal.lfilter([1.0, -1.0], [1.0, -q.real], x, axis=axis)
+                y = y + c.real * w
+        return y
+
+    def slowest_rate(self) -> float:
+        """The slowest pole's decay rate −Re p [1/s] (inf without poles)."""
+        if not self.poles.size:
+            return math.inf
+        return float(np.min(-np.log(np.abs(self.poles)))) / self.dt
+
+
+#: Poles closer than this (relative) are moved apart before the partial fractions: a
+#: double pole (a mode of ζ = 1/√2 at a 2nd-order Butterworth's cut-off) has none.
+_POLE_SEPARATION = 1e-8
+
+
+def foh_filter(z, p, k, dt: float) -> FohFilter:
+    r"""The analogue filter (zeros ``z``, poles ``p`` [rad/s], gain ``k``) discretised at step
+    ``dt`` [s] exactly for inputs linear between samples (first-order hold).
+
+    Notes
+    -----
+    The triangle-hold equivalent :math:`H(z) = \frac{(z-1)^2}{z\,T}
+    \mathcal Z\{H(s)/s^2\}` (Franklin, Powell & Workman 1998, §6.3.2), taken term by
+    term of the partial fractions :math:`H(s) = D + \sum_i r_i/(s - p_i)`, gives for each
+    pole :math:`-r_i/p_i + \frac{r_i (q_i - 1)}{p_i^2 T}\frac{1 - z^{-1}}{1 - q_i z^{-1}}`,
+    :math:`q_i = e^{p_i T}` — the parallel form of :class:`FohFilter`, which keeps its
+    precision where a pole lies close to z = 1 (a discharge of seconds sampled at MHz),
+    unlike the polynomial coefficients of a transfer function.
+    """
+    z = np.asarray(z, dtype=complex)
+    p = np.asarray(p, dtype=complex).copy()
+    scale = np.max(np.abs(p)) if p.size else 1.0
+    for i in range(1, p.size):  # separate coincident poles
+        while np.any(np.abs(p[:i] - p[i]) < _POLE_SEPARATION * scale):
+            p[i] = p[i] * (1.0 + _POLE_SEPARATION) + 1j * _POLE_SEPARATION * scale * np.sign(
+                p[i].imag or 1.0
+            )
+    direct = float(k) if z.size == p.size else 0.0
+    if z.size > p.size:
+        raise ValueError("an improper filter (more zeros than poles) has no hold equivalent")
+    upper = np.flatnonzero(p.imag >= -1e-12 * scale)
+    qs, cs, pairs = [], [], []
+    for i in upper:
+        pi = p[i]
+        r = k * np.prod(pi - z) / np.prod(pi - np.delete(p, i))
+        x = pi * dt
+        qs.append(np.exp(x))
+        cs.append(r * np.expm1(x) / (pi * pi * dt))
+        two = abs(pi.imag) > 1e-12 * scale
+        pairs.append(two)
+        direct += float(((-r / pi) * (2.0 if two else 1.0)).real)
+    return FohFilter(direct, np.array(qs), np.array(cs), np.array(pairs, dtype=bool), float(dt))
+
+
 def _seed_sequence(seed):
     if isinstance(seed, np.random.SeedSequence):
         return seed
@@ -166,6 +311,9 @@ def to_sensor(
     phase: float | None = None,
     oversample: int | None = None,
     seed=None,
+    resonance: float = SENSOR_DEFAULTS["resonance"],
+    damping_ratio: float = SENSOR_DEFAULTS["damping_ratio"],
+    discharge: float = SENSOR_DEFAULTS["discharge"],
 ) -> xr.Dataset:
     r"""What a tri-axial piezo force rig would record of an ideal force history.
 
@@ -215,6 +363,14 @@ def to_sensor(
         output; the draws are made in a fixed order, so changing e.g. ``noise`` keeps the
         phase and cross-talk matrix. ``None`` draws fresh entropy, recorded in the
         output's ``sensor_seed`` attribute so the record can be reproduced.
+    resonance : float
+        Natural frequency of the mounted transducer's mode [Hz], in series with the
+        low-pass; ``inf`` (default) for none.
+    damping_ratio : float
+        Damping ratio ζ of that mode [-], in (0, 1). Default 0.05.
+    discharge : float
+        Discharge time constant τ of the piezo and its charge amplifier [s], a first-order
+        high-pass in series; ``inf`` (default) for none.
 
     Returns
     -------
@@ -247,7 +403,8 @@ def to_sensor(
         y_i(t_k) = Q\Big[(h * \textstyle\sum_j C_{ij}F_j)(t_k) + o_i + d_i(t_k - t_0)
         + \sigma_i\,\varepsilon_{ik}\Big],\qquad \varepsilon_{ik}\sim N(0,1)
 
-    with h the impulse response of the Butterworth low-pass and Q the ADC.
+    with h the impulse response of the sensor chain (the Butterworth low-pass, and the
+    mode and the discharge where given) and Q the ADC.
     """
     validate(record)
     rate = _positive(rate, "rate")
@@ -274,6 +431,15 @@ def to_sensor(
     if int(filter_order) != filter_order or not 1 <= int(filter_order) <= 8:
         raise InputError(f"to_sensor: filter_order = {filter_order!r} must be 1…8")
     filter_order = int(filter_order)
+    resonance = _positive(resonance, "resonance", allow_inf=True)
+    discharge = _positive(discharge, "discharge", allow_inf=True)
+    damping_ratio = _positive(damping_ratio, "damping_ratio")
+    if not damping_ratio < 1.0:
+        raise InputError(
+            f"to_sensor: damping_ratio = {damping_ratio!r} must lie in (0, 1): a mode that "
+            "rings (a mounted transducer's is ~0.01–0.1)"
+        )
+    dynamics = math.isfinite(resonance) or math.isfinite(discharge)
 
     ss = _seed_sequence(seed)
     rng = np.random.default_rng(ss)
@@ -316,7 +482,7 @@ def to_sensor(
         channel(record, name) if name in record else (t_in[[0, -1]], np.zeros(2)) for name in _AXES
     ]
 
-    if math.isinf(bandwidth):
+    if math.isinf(bandwidth) and not dynamics:
         ideal = np.stack([np.interp(t_out, tc, fc, left=0.0, right=0.0) for tc, fc in ideal_pts])
         os_used = 1
     else:
@@ -334,8 +500,13 @@ def to_sensor(
         true_fine = np.stack(
             [np.interp(t_fine, tc, fc, left=0.0, right=0.0) for tc, fc in ideal_pts]
         )
-        sos = butterworth_sos(filter_order, bandwidth, period / os_used)
-        ideal = signal.sosfilt(sos, true_fine, axis=-1)[:, lead * os_used :: os_used]
+        step = period / os_used
+        if dynamics:
+            chain = sensor_zpk(bandwidth, filter_order, resonance, damping_ratio, discharge)
+            filtered = foh_filter(*chain, step)(true_fine)
+        else:
+            filtered = signal.sosfilt(butterworth_sos(filter_order, bandwidth, step), true_fine)
+        ideal = filtered[:, lead * os_used :: os_used]
     # The same linear filter acts on every axis, so mixing after it equals mixing before.
     mixed = C @ ideal
 
@@ -375,13 +546,13 @@ def to_sensor(
             "sensor_full_scale": fs_a.tolist(),
             "sensor_quantum": quantum.tolist(),
             "sensor_bandwidth": bandwidth,
-            "sensor_filter": (
-                "none"
-                if math.isinf(bandwidth)
-                else f"Butterworth low-pass, order {filter_order}, causal, "
-                "first-order-hold discretisation"
+            "sensor_filter": _describe(
+                bandwidth, filter_order, resonance, damping_ratio, discharge
             ),
             "sensor_filter_order": filter_order,
+            "sensor_resonance": resonance,
+            "sensor_damping_ratio": damping_ratio,
+            "sensor_discharge": discharge,
             "sensor_oversample": os_used,
             "sensor_crosstalk": (float(crosstalk) if np.ndim(crosstalk) == 0 else "matrix"),
             "sensor_crosstalk_matrix": C.ravel().tolist(),
@@ -396,6 +567,19 @@ def to_sensor(
         }
     )
     return make_record(t_out, dict(zip(_AXES, y, strict=True)), attrs=attrs)
+
+
+def _describe(bandwidth, order, resonance, zeta, discharge) -> str:
+    parts = []
+    if math.isfinite(bandwidth):
+        parts.append(f"Butterworth low-pass, order {order}")
+    if math.isfinite(resonance):
+        parts.append(f"mounted mode {resonance:.6g} Hz, ζ = {zeta:.4g}")
+    if math.isfinite(discharge):
+        parts.append(f"discharge τ = {discharge:.6g} s")
+    if not parts:
+        return "none"
+    return ", ".join(parts) + ", causal, first-order-hold discretisation"
 
 
 def _output_attrs(truth: dict) -> dict:
