@@ -245,6 +245,7 @@ class Analysis:
                 "fitted": self.fitted,
                 "options": {k: v for k, v in self.options.items() if _jsonable(v)},
                 "window": self.window.summary(),
+                "repaired": {"spikes": self.window.spike_indices()},
                 "fits": {
                     k: getattr(self.fits, k).summary()
                     for k in ("Fn", "Ft")
@@ -291,9 +292,16 @@ class Analysis:
             f"e = {self.rigid_scene.e:.4g} (from the {self.sources.get('e')}); "
             f"μ estimated from the record = {self.mu_record:.4g}",
             f"regime (Routh): {rs.regime}",
-            "",
-            f"{'':14s}{'measured':>22s}{'rigid':>12s}",
         ]
+        if self.window.spikes:
+            spikes = "; ".join(
+                f"{ch} samples {idx}" for ch, idx in self.window.spike_indices().items()
+            )
+            lines.append(
+                f"repaired: {len(self.window.spikes)} isolated sample(s) no force history can "
+                f"make ({spikes}), replaced by their neighbours' curve before the percussions"
+            )
+        lines += ["", f"{'':14s}{'measured':>22s}{'rigid':>12s}"]
         rigid = {
             "e_n": float(self.rigid_scene.e),
             "e_t": float(rs.e_t),

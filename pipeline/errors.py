@@ -24,6 +24,7 @@ __all__ = [
     "ImpulseMismatchWarning",
     "GeometryWarning",
     "ColouredNoiseWarning",
+    "SensorDynamicsWarning",
     "caller_level",
 ]
 
@@ -147,6 +148,11 @@ class ColouredNoiseWarning(PipelineWarning):
     """The record's noise is correlated (measured before the trigger); the fit whitens it."""
 
 
+class SensorDynamicsWarning(PipelineWarning):
+    """The record shows a transducer mode, a discharge or a zero shift the sensor's
+    description does not state; the fit models it."""
+
+
 # ------------------------------------------------------------ plausibility before physics
 # Each check of a record a careful experimentalist would make has its own class, so a user
 # can catch or filter exactly one kind. Errors where the record cannot give a right answer
@@ -163,6 +169,7 @@ __all__ += [
     "PlausibilityWarning",
     "MultipleImpactWarning",
     "TriggerGlitchWarning",
+    "SpikeWarning",
     "SampleRateWarning",
     "ContactTimeWarning",
     "PeakForceWarning",
@@ -222,6 +229,11 @@ class MultipleImpactWarning(PlausibilityWarning):
 
 class TriggerGlitchWarning(PlausibilityWarning):
     """A spike of one to three samples outside the contact pulse; it is ignored."""
+
+
+class SpikeWarning(PlausibilityWarning):
+    """Isolated samples no force history can make (electrical spikes): repaired by the
+    window, left out of the fits."""
 
 
 class SampleRateWarning(PlausibilityWarning):

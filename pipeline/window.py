@@ -50,7 +50,20 @@ two impacts                        a later pulse ≥ 5 % of the  :class:`Multipl
                                    pulse to half its humps
 trigger glitch                     a spike > 2·k·σ away from   :class:`TriggerGlitchWarning`;
                                    the pulse                   ignored
+electrical spike                   one sample no band-limited  :class:`SpikeWarning`;
+                                   force can make              repaired (:func:`find_spikes`)
 =================================  ==========================  ===============================
+
+**Spikes.** Before anything else, every force channel of a sensor record is searched for
+isolated samples that no force history can make: the sensor's low-pass spreads whatever
+the force does over several samples, so a single sample that stands off the curve its
+neighbours draw — by more than the noise allows, while those neighbours lie on it — is an
+electrical artefact (a switching transient, an ADC bit error), not force. Such a sample is
+replaced by its neighbours' curve for every later step (the window, its baseline and
+noise, :attr:`ContactWindow.record`), listed in :attr:`ContactWindow.spikes`, and left out
+of the contact fits (:mod:`pipeline.fit.forward`). Left in, a spike inside the pulse
+looks to the window like a dip between two impacts, and to a fit like a pulse several
+times stiffer.
 
 Errors where the record cannot give a right answer (a clipped or cut pulse has lost part
 of its impulse; a flipped channel would be analysed as tension), warnings where the
@@ -99,6 +112,7 @@ from .errors import (
     MultipleImpactWarning,
     NoPulseError,
     SignFlipError,
+    SpikeWarning,
     TriggerGlitchWarning,
     TruncatedPulseError,
     caller_level,
@@ -107,6 +121,8 @@ from .record import FORCE_CHANNELS, KINDS, adc_step, channel
 
 __all__ = [
     "Baseline",
+    "Spike",
+    "find_spikes",
     "ContactWindow",
     "find_contact",
     "apply_window",
@@ -174,6 +190,156 @@ class Baseline:
 
 
 @dataclass(frozen=True)
+class Spike:
+    """One sample no force history can make (:func:`find_spikes`), repaired.
+
+    Attributes
+    ----------
+    channel : str — the force channel
+    index : int — the sample's index in the record
+    t : float — its instant [s]
+    value : float — the recorded value [N]
+    repaired : float — the value its neighbours' curve gives there [N]
+    """
+
+    channel: str
+    index: int
+    t: float
+    value: float
+    repaired: float
+
+
+#: Weights of the least-squares quadratic through the samples at offsets −3…−1, 1…3,
+#: evaluated at offset 0 (its variance under white noise: σ²·Σw² = σ²/2).
+_SPIKE_OFFSETS = np.array([-3, -2, -1, 1, 2, 3])
+_SPIKE_WEIGHTS = np.array([-2.0, 3.0, 6.0, 6.0, 3.0, -2.0]) / 14.0
+#: A spike stands off its neighbours' quadratic by more than this many times the RMS
+#: misfit of that quadratic to the neighbours (on 3 degrees of freedom): smooth curves —
+#: a pulse, a decaying ring — stay below ~2 where the noise does not hide them, and a
+#: spike on noise stands ~|spike|/σ above it.
+SPIKE_ISOLATION = 4.0
+
+
+def _quadratic_projector():
+    X = np.column_stack([np.ones(6), _SPIKE_OFFSETS, _SPIKE_OFFSETS**2.0])
+    return np.linalg.qr(X)[0]
+
+
+_SPIKE_Q = _quadratic_projector()
+
+
+def _quadratic_reach():
+    """Weights of the neighbours' quadratic (offsets ±1…±3) at offsets −5, −4, 4, 5, and the
+    variance of each prediction less its sample, over σ²."""
+    X = np.column_stack([np.ones(6), _SPIKE_OFFSETS, _SPIKE_OFFSETS**2.0])
+    far = np.array([-5.0, -4.0, 4.0, 5.0])
+    W = np.column_stack([np.ones(4), far, far**2]) @ np.linalg.solve(X.T @ X, X.T)
+    return W, 1.0 + np.sum(W * W, axis=1)
+
+
+_REACH_OFFSETS = np.array([-5, -4, 4, 5])
+_REACH_W, _REACH_VAR = _quadratic_reach()
+
+
+def _spike_stats(y, k):
+    """(d, misfit²) at samples ``k``: the sample less its neighbours' quadratic, and that
+    quadratic's mean squared misfit to the six neighbours (3 degrees of freedom)."""
+    nb = y[k[:, None] + _SPIKE_OFFSETS[None, :]]
+    d = y[k] - nb @ _SPIKE_WEIGHTS
+    rss = np.einsum("kj,kj->k", nb, nb) - np.sum((nb @ _SPIKE_Q) ** 2, axis=1)
+    return d, np.maximum(rss, 0.0) / 3.0
+
+
+def _spike_at(y, i, n, kk, sd, sigma):
+    """The value sample ``i`` of ``y`` takes on its neighbours' curve where it is a spike
+    (:func:`find_spikes`), else None."""
+    dk, m2 = _spike_stats(y, np.array([i]))
+    if not (abs(dk[0]) > kk * sd and dk[0] ** 2 > SPIKE_ISOLATION**2 * m2[0]):
+        return None
+    sides = (
+        y[i] - (4 * y[i - 1] + y[i - 2] - 2 * y[i - 3]) / 3,
+        y[i] - (4 * y[i + 1] + y[i + 2] - 2 * y[i + 3]) / 3,
+    )
+    if min(np.sign(dk[0]) * d for d in sides) <= 3.0 * math.sqrt(10 / 3) * sigma:
+        return None  # on a line through the neighbours of one side: a corner
+    if 5 <= i < n - 5:  # the neighbours' curve reaches the samples beyond them
+        far = y[i + _REACH_OFFSETS] - _REACH_W @ y[i + _SPIKE_OFFSETS]
+        allowed = np.maximum(5.0 * sigma * np.sqrt(_REACH_VAR), abs(dk[0]) / 3.0)
+        if np.any(np.abs(far) > allowed):
+            return None
+    trial = y.copy()
+    trial[i] = y[i] - dk[0]
+    near = np.arange(max(i - 3, 3), min(i + 4, n - 3))
+    near = near[near != i]
+    dn, _ = _spike_stats(trial, near)
+    if near.size and np.max(np.abs(dn)) > 4.0 * sd:
+        return None
+    return float(trial[i])
+
+
+def find_spikes(y, *, k: float | None = None, false_alarm: float = 1e-3, sigma=None):
+    """Isolated samples of ``y`` that no band-limited signal makes, and their repairs.
+
+    Each interior sample is compared with the least-squares quadratic through its six
+    neighbours (three on each side): the difference d has variance 1.5·σ² under white
+    noise σ. A sample is a spike when |d| exceeds k·√1.5·σ (k the Bonferroni threshold of
+    :func:`default_threshold` for the record's length), when the neighbours lie on their
+    quadratic (|d| above :data:`SPIKE_ISOLATION` times its RMS misfit to them), and when,
+    once it is replaced by the quadratic's value, its neighbours are back within 4·√1.5·σ
+    of theirs and the samples four and five away lie on the quadratic too (within 5 of
+    their σ or a third of the spike: a ringing tone fails this, a lone spike on a smooth
+    curve passes); and when it stands off the
+    lines through its three neighbours on either side, each extrapolated to it, by more
+    than 3·√(10/3)·σ the same way (a kink, where two lines meet, lies on both: a pulse's
+    corner the filter has not rounded is no spike). Spikes are taken largest first, each
+    repaired before the next is judged.
+
+    Parameters
+    ----------
+    y : array_like — one channel's samples [N], uniformly sampled
+    k : float, optional — threshold in σ [-]; default from the length and ``false_alarm``
+    false_alarm : float — chance that white noise alone gives a spike in the record [-]
+    sigma : float, optional — the noise σ [N]; default: the MAD of d over the record / √1.5
+
+    Returns
+    -------
+    (indices, repaired) : numpy.ndarray of int, numpy.ndarray of float — the spikes'
+    indices (ascending) and the values their neighbours' quadratic gives there [N]
+    """
+    y = np.array(y, dtype=float, copy=True)
+    n = y.size
+    if n < 7:
+        return np.zeros(0, int), np.zeros(0)
+    inner = np.arange(3, n - 3)
+    d, _ = _spike_stats(y, inner)
+    if sigma is None:
+        sigma = mad_sigma(d) / math.sqrt(1.5)
+        if not sigma > 0:
+            sigma = float(np.std(d)) / math.sqrt(1.5)
+    sigma = max(float(sigma), _RESOLUTION_FLOOR * float(np.ptp(y)), adc_step(y) / math.sqrt(12))
+    if not sigma > 0:
+        return np.zeros(0, int), np.zeros(0)
+    sd = sigma * math.sqrt(1.5)
+    kk = default_threshold(n, false_alarm) if k is None else float(k)
+    found, values = [], []
+    order = inner[np.argsort(-np.abs(d))]
+    candidates = [int(i) for i in order[np.abs(d[order - 3]) > kk * sd]]
+    while True:  # largest first; a pass again after each repair (a near one may now pass)
+        for i in candidates:
+            repaired = _spike_at(y, i, n, kk, sd, sigma)
+            if repaired is not None:
+                found.append(i)
+                values.append(repaired)
+                y[i] = repaired
+                candidates.remove(i)
+                break
+        else:
+            break
+    idx = np.argsort(found)
+    return np.asarray(found, dtype=int)[idx], np.asarray(values)[idx]
+
+
+@dataclass(frozen=True)
 class ContactWindow:
     """The contact found in a record (all SI).
 
@@ -201,6 +367,9 @@ class ContactWindow:
         Further impacts found after the contact (sensor records; see the module notes).
     glitches : tuple of (t [s], value [N])
         Spikes of a few samples outside the contact, ignored.
+    spikes : tuple of Spike
+        Isolated samples no force can make (:func:`find_spikes`), repaired for the window
+        and left out of the fits.
     """
 
     t_start: float
@@ -214,11 +383,19 @@ class ContactWindow:
     record: xr.Dataset | None = field(default=None, repr=False, compare=False)
     other_pulses: tuple = ()
     glitches: tuple = ()
+    spikes: tuple = ()
 
     @property
     def duration(self) -> float:
         """Contact duration t_end − t_start [s]."""
         return self.t_end - self.t_start
+
+    def spike_indices(self) -> dict:
+        """{channel: [sample indices]} of the spikes (:attr:`spikes`)."""
+        out = {}
+        for sp in self.spikes:
+            out.setdefault(sp.channel, []).append(sp.index)
+        return out
 
     def summary(self) -> dict:
         """JSON-ready dict of the window's numbers (units in the key names; NaN → None)."""
@@ -240,6 +417,16 @@ class ContactWindow:
                     {"t_start_s": a, "t_end_s": b, "peak_N": p} for a, b, p in self.other_pulses
                 ],
                 "glitches": [{"t_s": a, "value_N": v} for a, v in self.glitches],
+                "spikes": [
+                    {
+                        "channel": sp.channel,
+                        "index": sp.index,
+                        "t_s": sp.t,
+                        "value_N": sp.value,
+                        "repaired_N": sp.repaired,
+                    }
+                    for sp in self.spikes
+                ],
             }
         )
 
@@ -334,6 +521,9 @@ def find_contact(
         then ends at the dip between them); listed in ``other_pulses``.
     TriggerGlitchWarning
         Spikes away from the pulse, ignored; listed in ``glitches``.
+    SpikeWarning
+        Isolated samples no force can make elsewhere (inside or near the pulse, or on
+        another channel), repaired; every one is listed in ``spikes``.
     """
     kind = record.attrs.get("kind", "sensor") or "sensor"
     if kind not in KINDS:
@@ -495,8 +685,39 @@ def _ends(t, r, a, b):
     return float(t0), float(t1)
 
 
+def _repair_spikes(record, false_alarm):
+    """(the record with every channel's spikes repaired, the spikes) — the record itself
+    where there are none (:func:`find_spikes`; uniformly sampled channels only)."""
+    t = record["time"].values
+    dt = np.diff(t)
+    if t.size < 20 or np.ptp(dt) > 1e-6 * np.mean(dt):
+        return record, ()
+    found, new = [], {}
+    for c in _channels(record):
+        tc, yc = channel(record, c)
+        if tc.size != t.size:
+            continue
+        idx, rep = find_spikes(yc, false_alarm=false_alarm)
+        if idx.size:
+            fixed = yc.copy()
+            fixed[idx] = rep
+            new[c] = fixed
+            found += [
+                Spike(c, int(i), float(t[i]), float(yc[i]), float(v))
+                for i, v in zip(idx, rep, strict=True)
+            ]
+    if not new:
+        return record, ()
+    out = record.copy()
+    for c, fixed in new.items():
+        out[c] = (record[c].dims, fixed, record[c].attrs)
+    return out, tuple(sorted(found, key=lambda sp: (sp.index, sp.channel)))
+
+
 def _sensor(record, *, k, false_alarm, guard, max_iter):
     src = record.attrs.get("source")
+    raw_fn = record["Fn"].values
+    record, spikes = _repair_spikes(record, false_alarm)
     t = record["time"].values
     y = record["Fn"].values
     n = t.size
@@ -529,6 +750,9 @@ def _sensor(record, *, k, false_alarm, guard, max_iter):
         for other in new.others + new.glitches:  # other impacts and spikes: not baseline
             g = max(int(guard * (other.b - other.a + 1)), 1)
             new_outside[max(other.a - g, 0) : other.b + g + 1] = False
+        if new.ringing:  # the sensor's ring, and a lobe's length beyond its last
+            first, last = new.ringing[0], new.ringing[-1]
+            new_outside[first.a : last.b + last.size + 1] = False
         left = int(np.count_nonzero(new_outside & (t < t0)))
         right = int(np.count_nonzero(new_outside & (t > t1)))
         if left + right < 8:
@@ -553,6 +777,16 @@ def _sensor(record, *, k, false_alarm, guard, max_iter):
     r = y - base(t)
     if found is not None:
         sigma = _sigma(r[outside], y)
+    fn_spikes = [sp for sp in spikes if sp.channel == "Fn"]
+    if found is None and fn_spikes:
+        worst = max(fn_spikes, key=lambda sp: abs(sp.value - base(sp.t)))
+        raise NoPulseError(
+            f"no contact pulse found, only {len(fn_spikes)} spike(s) of 1 sample (the largest "
+            f"{worst.value - float(base(worst.t)):.4g} N at sample {worst.index}, "
+            f"{_in_sigma(abs(worst.value - base(worst.t)), sigma)}): a contact pulse lasts "
+            "many samples. Check the trigger and that the file holds the impact",
+            path=src,
+        )
     if found is None:
         peak_abs = float(np.max(np.abs(r)))
         raise NoPulseError(
@@ -569,15 +803,18 @@ def _sensor(record, *, k, false_alarm, guard, max_iter):
     # spikes worth a word: well above the threshold, and away from the pulse's edges
     # (where the noise of a short record's σ estimate crosses k·σ now and then)
     margin = guard * (t1 - t0)
-    found = dataclasses.replace(
-        found,
-        glitches=tuple(
-            g
-            for g in found.glitches
-            if abs(r[g.peak]) > 2 * kk * sigma and not t0 - margin <= t[g.peak] <= t1 + margin
-        ),
-    )
-    _report_events(found, t, r, src)
+
+    def glitch(i, value):
+        return abs(value) > 2 * kk * sigma and not t0 - margin <= t[i] <= t1 + margin
+
+    # the repaired single samples of Fn away from the pulse are the trigger glitches of old
+    r_raw = raw_fn - base(t)
+    lone = [sp for sp in fn_spikes if glitch(sp.index, r_raw[sp.index])]
+    runs = [g for g in found.glitches if glitch(g.peak, r[g.peak])]
+    runs += [_Run(sp.index, sp.index, int(np.sign(r_raw[sp.index])), sp.index, 1) for sp in lone]
+    found = dataclasses.replace(found, glitches=tuple(sorted(runs, key=lambda g: g.a)))
+    _report_events(found, t, r_raw, src)
+    _report_spikes([sp for sp in spikes if sp not in lone], src)
     both = np.count_nonzero(outside & (t < t0)) >= 4 and np.count_nonzero(outside & (t > t1)) >= 4
     noise, baseline = {}, {}
     for c in _channels(record):
@@ -590,7 +827,8 @@ def _sensor(record, *, k, false_alarm, guard, max_iter):
     return dataclasses.replace(
         win,
         other_pulses=tuple((float(t[o.a]), float(t[o.b]), float(r[o.peak])) for o in found.others),
-        glitches=tuple((float(t[g.peak]), float(r[g.peak])) for g in found.glitches),
+        glitches=tuple((float(t[g.peak]), float(r_raw[g.peak])) for g in found.glitches),
+        spikes=spikes,
     )
 
 
@@ -635,6 +873,7 @@ class _Found:
     others: tuple = ()  # later positive pulses: further impacts, reported
     glitches: tuple = ()  # spikes: reported
     split: int | None = None  # index of the dip where a second impact was cut off
+    ringing: tuple = ()  # lobes of the sensor's ring after the pulse: neither
 
     @property
     def key(self):
@@ -736,6 +975,9 @@ def _choose(runs, r, sigma, kk, src) -> _Found | None:
             )
         return None
     biggest = max(pulses, key=lambda run: abs(r[run.peak]))
+    main_size = next((run for run in pulses if run.sign > 0), biggest).size
+    ringing = _ringing(runs, r, main_size)
+    glitches = [run for run in glitches if run not in ringing]
     if biggest.sign < 0:
         raise SignFlipError(
             f"the largest pulse of Fn is negative ({float(r[biggest.peak]):.4g} N from the "
@@ -754,6 +996,7 @@ def _choose(runs, r, sigma, kk, src) -> _Found | None:
         for run in pulses
         if run.a > main.b
         and run.sign > 0
+        and run not in ringing
         and (r[run.peak] >= MINOR_PULSE * top or run.size >= 0.5 * main.size)
     ]
     a, b, split = main.a, main.b, _dip(r, main, sigma, kk)
@@ -761,7 +1004,40 @@ def _choose(runs, r, sigma, kk, src) -> _Found | None:
         rest = _Run(split, main.b, 1, split + int(np.argmax(r[split : main.b + 1])), 0)
         others.insert(0, rest)
         b = split - 1
-    return _Found(a, b, tuple(others), tuple(glitches), split)
+    return _Found(a, b, tuple(others), tuple(glitches), split, tuple(ringing))
+
+
+#: Two adjoining lobes of opposite sign belong to one ring where the smaller is at least this
+#: fraction of the larger (a low-pass's own undershoot after a pulse is ~4 % of it).
+RING_FRACTION = 0.15
+
+
+def _ringing(runs, r, main_size) -> list:
+    """The excursions that are lobes of a ring — the sensor's mode after the pulse, not
+    another impact: three or more lobes of alternating sign, each adjoining the next
+    (within the longer one's length, or three samples) and each at least
+    :data:`RING_FRACTION` of its neighbour; those shorter than the contact pulse (a later
+    impact lasts longer than the first, t_c ∝ v^(-1/5))."""
+    out, chain = [], runs[:1]
+
+    def close(chain):
+        if len(chain) >= 3:
+            out.extend(run for run in chain if run.size < main_size)
+
+    for prev, run in zip(runs, runs[1:], strict=False):
+        a, b = abs(r[prev.peak]), abs(r[run.peak])
+        linked = (
+            run.sign != prev.sign
+            and run.a - prev.b <= max(prev.size, run.size, 3)
+            and min(a, b) >= RING_FRACTION * max(a, b)
+        )
+        if linked:
+            chain.append(run)
+        else:
+            close(chain)
+            chain = [run]
+    close(chain)
+    return out
 
 
 def _dip(r, run, sigma, kk) -> int | None:
@@ -847,6 +1123,24 @@ def _warn_later(src, pulses, peak, where=""):
         f"{src}: {where}{len(pulses)} further pulse(s) after the contact ({listing}): a rebound "
         "strike or a second impact; the analysis keeps to the first",
         MultipleImpactWarning,
+        stacklevel=caller_level(__file__),
+    )
+
+
+def _report_spikes(spikes, src):
+    """SpikeWarning listing the repaired samples (those not reported as trigger glitches)."""
+    if not spikes:
+        return
+    listing = "; ".join(
+        f"{sp.channel} sample {sp.index} (t = {sp.t:.6g} s: {sp.value:.4g} N, its neighbours "
+        f"give {sp.repaired:.4g} N)"
+        for sp in spikes[:8]
+    ) + ("; ..." if len(spikes) > 8 else "")
+    warnings.warn(
+        f"{src}: {len(spikes)} isolated sample(s) no force history can make ({listing}): "
+        "electrical spikes, replaced by their neighbours' curve for the window and the "
+        "percussions and left out of the contact fits",
+        SpikeWarning,
         stacklevel=caller_level(__file__),
     )
 
