@@ -95,6 +95,13 @@ def _blocks(design, theta, varied):
     return np.array(shared, dtype=int), [np.array(o, dtype=int) for o in own]
 
 
+def _moved(p, b):
+    """p − b where the entries differ, 0 where they are equal (an infinite resonance or
+    bandwidth among them does not move)."""
+    with np.errstate(invalid="ignore"):
+        return np.where(p == b, 0.0, p - b)
+
+
 def _dlocal(design, theta, shared, own, scale):
     """∂P_i/∂θ for each record's columns (shared, then own), by forward differences of
     ``design.local`` — every record's own parameters of one kind perturbed at once (each
@@ -108,14 +115,14 @@ def _dlocal(design, theta, shared, own, scale):
         th = theta.copy()
         th[k] += h
         for i, (b, p) in enumerate(zip(base, design.local(th[None, :]), strict=True)):
-            D[i, :, j] = np.where(p[0] == b[0], 0.0, p[0] - b[0]) / h
+            D[i, :, j] = _moved(p[0], b[0]) / h
     for j in range(p_o):
         ks = np.array([o[j] for o in own])
         h = 1e-7 * np.maximum(np.abs(theta[ks]), scale[ks])
         th = theta.copy()
         th[ks] += h
         for i, (b, p) in enumerate(zip(base, design.local(th[None, :]), strict=True)):
-            D[i, :, shared.size + j] = np.where(p[0] == b[0], 0.0, p[0] - b[0]) / h[i]
+            D[i, :, shared.size + j] = _moved(p[0], b[0]) / h[i]
     return [b[0] for b in base], D
 
 

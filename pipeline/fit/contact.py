@@ -64,20 +64,32 @@ from scipy import special
 
 from .._json import json_ready
 from ..contact import NORMAL_LAWS, calibrate_thornton, yield_pressure
-from ..errors import InputError, PipelineWarning
+from ..errors import InputError, PipelineWarning, PoorFitWarning
 from ..percussion import estimate_mu
 from ..precision import model_words
 from ..scene import Scene
 from ..simulate.curved import geometry_error
 from ..smooth import runs_test
-from .engine import Design
-from .forward import _I, PARAMS, UNITS, ForwardModel, RecordData, Solution, param_scales, prepare
+from . import dynamics
+from .engine import Design, Problem, gauss_newton_many
+from .forward import (
+    _I,
+    PARAMS,
+    SHIFT_PARAMS,
+    SYSTEMATIC_PARAMS,
+    UNITS,
+    ForwardModel,
+    RecordData,
+    Solution,
+    param_scales,
+    prepare,
+)
 from .procedure import run_fit
 from .pulse import E_MIN, normal_pulse
 from .result import FitResult, _misfit_words
-from .systematics import resolve
+from .systematics import DEFAULT_SYSTEMATICS, Systematic, resolve
 from .tangential import tangential_response
-from .verdict import alternative_laws, alternative_orders, diagnose, model_spread
+from .verdict import AIC_DECISIVE, alternative_laws, alternative_orders, diagnose, model_spread
 
 __all__ = ["ContactFit", "fit_contact", "DEFAULT_VARY"]
 
@@ -156,6 +168,7 @@ class ContactFit(FitResult):
     systematics: tuple = ()
     verdict: dict = None
     alternatives: dict = field(default_factory=dict)
+    dynamics: dict = field(default_factory=dict)
 
     @property
     def normal(self) -> str:
@@ -238,6 +251,13 @@ class ContactFit(FitResult):
             out[k] = {"value": v, "unit": UNITS[k], "vary": False, "derived": True,
                       "stderr": se, "ci95": list(ci)}  # fmt: skip
         return out
+
+    @property
+    def excluded(self) -> dict:
+        """{channel: [sample indices of the record]} left out of the fit: the spikes no force
+        history can make (:func:`pipeline.window.find_spikes`; the verdict's ``spikes``)
+        and samples at the ADC's end codes."""
+        return {k: list(v) for k, v in self.data.excluded.items()}
 
     @property
     def tangential(self) -> str:
@@ -714,7 +734,7 @@ def fit_contact(
 
 #: The options of :func:`fit_contact` that choose the samples, their weights and the sensor
 #: model (:func:`pipeline.fit.forward.prepare`'s).
-_PREPARE = ("sensor", "noise", "margin", "baseline", "oversample", "window_options")
+_PREPARE = ("sensor", "noise", "margin", "baseline", "oversample", "window_options", "quiet_after")
 
 
 def _prepare(record, scene, model, options) -> RecordData:
@@ -727,15 +747,170 @@ def fit_model(record, scene, model, vary, *, t_begin=None, data=None, **options)
     """Fit ``model`` (a :class:`~pipeline.fit.forward.ForwardModel`, or the rigid model of
     :mod:`pipeline.fit.select`) to one record: the work behind :func:`fit_contact`, whose
     options it takes. ``data``: the record already prepared with those options
-    (:func:`pipeline.fit.forward.prepare`), as the verdict's fits share it."""
+    (:func:`pipeline.fit.forward.prepare`), as the verdict's fits share it.
+
+    Where the systematics look for the sensor's dynamics (their mapping holds
+    ``"resonance"``, ``"discharge"``) and the sensor states none, the fit's residuals are
+    screened for a mode, a discharge and a zero shift (:mod:`pipeline.fit.dynamics`); what
+    the screen finds is fitted, and kept where it lowers the AIC decisively."""
     t_begin = time.perf_counter() if t_begin is None else t_begin
     opts = dict(options)
+    found = opts.pop("found", None)
+    if found is not None or model.normal is None:
+        return _fit_model(record, scene, model, vary, t_begin, opts, data, found)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        fit = _fit_model(record, scene, model, vary, t_begin, opts, data)
+    want = _screened(fit, opts)
+    findings = dynamics.screen(fit.problem, fit.theta, fit.data, model, **want)
+    out = _bounded(_with_dynamics(fit, findings, record, scene, model, vary, t_begin, opts), want)
+    for w in caught:  # the first fit's warnings, but its misfit where the dynamics explain it
+        if out is fit or not issubclass(w.category, PoorFitWarning):
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno, source=w.source)
+    return out
+
+
+def _screened(fit, opts) -> dict:
+    """What the dynamics screen looks for in ``fit``'s record (module notes of
+    :mod:`pipeline.fit.dynamics`): a mode and a discharge where the systematics name them
+    and the sensor states none; a zero shift with the discharge, unless ``zero_shift``
+    says otherwise."""
+    syst = opts.get("systematics")
+    given = DEFAULT_SYSTEMATICS if syst is None else syst
+    spec = fit.data.sensor
+    sensor_kind = fit.data.window.kind == "sensor" and fit.data.fine is not None
+    return {
+        "mode": sensor_kind and "resonance" in given and not math.isfinite(spec.resonance),
+        "discharge": sensor_kind and "discharge" in given and not math.isfinite(spec.discharge),
+        "shift": sensor_kind and "discharge" in given and opts.get("zero_shift") is not False,
+    }
+
+
+def _with_dynamics(fit, findings, record, scene, model, vary, t_begin, opts) -> ContactFit:
+    """``fit`` refitted with what the screen found, where that lowers the AIC decisively
+    against ``fit`` refitted on the same weights (the noise measured before the contact);
+    else ``fit``."""
+    if not findings:
+        return fit
+    spec = fit.data.sensor
+    found, sensor = {}, spec
+    if findings.mode is not None:
+        fn, zeta, chi2, fd, delta = findings.mode
+        sensor = dataclasses.replace(sensor, resonance=fn, damping_ratio=zeta)
+        why = (
+            f"not stated: fitted — the record rings at {fd:.4g} Hz after the pulse, "
+            f"logarithmic decrement {delta:.3g} (χ² {chi2:.0f} explained)"
+        )
+        found["resonance"] = (fn, why)
+        found["damping_ratio"] = (zeta, why)
+    if findings.discharge is not None:
+        tau, chi2 = findings.discharge
+        sensor = dataclasses.replace(sensor, discharge=tau)
+        found["discharge"] = (
+            tau,
+            f"not stated: fitted — the record undershoots after the pulse (χ² {chi2:.0f} "
+            "explained)",
+        )
+    if findings.shift:
+        why = "not stated: fitted — the record's zero steps during the contact"
+        found.update({k: (v, why) for k, v in findings.shift.items()})
+    extra = {"sensor": sensor, "quiet_after": True}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", PipelineWarning)
+        try:
+            alt = _fit_model(record, scene, model, vary, t_begin, {**opts, **extra}, None, found)
+        except (InputError, np.linalg.LinAlgError):
+            return fit
+    base_aic = _aic_on(fit, alt, record, scene, model, opts)
+    gain = base_aic - alt.aic
+    if not gain > AIC_DECISIVE:
+        note = (
+            f"the residuals hinted at {_what(findings)}, but fitting it lowered the AIC by "
+            f"{gain:.1f} only (≤ {AIC_DECISIVE:g}): left out"
+        )
+        return dataclasses.replace(fit, notes=fit.notes + (note,))
+    if alt.poor:  # its own PoorFitWarning was held back with the trial's
+        warnings.warn(
+            next(n for n in alt.notes if "the model misses structure" in n), PoorFitWarning, 3
+        )
+    info = dict(findings.scores, aic_gain=gain, what=_what(findings))
+    terms = dynamics.shift_spread(alt) if findings.shift else {}
+    return dataclasses.replace(alt, dynamics=info, extra_terms=terms)
+
+
+def _bounded(fit, want) -> ContactFit:
+    """``fit`` with the bound of a mode or a discharge it looked for but neither found nor
+    was told in its budget (:func:`pipeline.fit.dynamics.bounds`): each parameter's
+    largest shift over what the record allows, as a rectangular bound (u = shift/√3)."""
+    which = {
+        "mode": want["mode"] and "resonance" not in fit.vary,
+        "discharge": want["discharge"] and "discharge" not in fit.vary,
+    }
+    found = dynamics.bounds(fit.problem, fit.theta, fit.data, fit.model, **which)
+    if not found:
+        return fit
+    terms, notes = {k: dict(v) for k, v in fit.extra_terms.items()}, []
+    for name, b in found.items():
+        for param, shift in b["effect"].items():
+            if param not in SYSTEMATIC_PARAMS and shift > 0:
+                terms.setdefault(param, {})[name] = shift / math.sqrt(3.0)
+        what = (
+            f"a mounted mode at f_n ≥ {b['limit']:.3g} Hz (ζ = {dynamics.ZETA_BOUND})"
+            if name == "resonance"
+            else f"a discharge of τ ≥ {b['limit']:.3g} s"
+        )
+        notes.append(
+            f"{name}: none stated and none shows in the record, which allows {what}; its "
+            "largest effect enters the budget as a rectangular bound"
+        )
+    info = dict(fit.dynamics, bounds={k: b["limit"] for k, b in found.items()})
+    return dataclasses.replace(
+        fit, extra_terms=terms, notes=fit.notes + tuple(notes), dynamics=info
+    )
+
+
+def _what(findings) -> str:
+    parts = []
+    if findings.mode is not None:
+        parts.append(f"a mounted mode near {findings.mode[0]:.4g} Hz")
+    if findings.discharge is not None:
+        parts.append(f"a discharge of τ ≈ {findings.discharge[0]:.3g} s")
+    if findings.shift:
+        chans = [c for c, p in (("Fn", "shift_n"), ("Ft", "shift_t")) if p in findings.shift]
+        parts.append(f"a zero shift of {' and '.join(chans)}")
+    return " and ".join(parts)
+
+
+def _aic_on(fit, alt, record, scene, model, opts) -> float:
+    """AIC of ``fit``'s model (without the dynamics found) refitted on ``alt``'s weights:
+    the noise measured before the contact, the same samples."""
+    data = _prepare(record, scene, model, {**opts, "sensor": fit.data.sensor, "quiet_after": True})
+    p = fit.problem
+    design = _Single(data, model.normal, p.design.use_alpha)
+    varied = np.zeros(len(fit.names), dtype=bool)
+    varied[p.vary] = True
+    priors = {
+        int(k): (v, u) for k, v, u in zip(p.prior_index, p.prior_value, p.prior_sigma, strict=True)
+    }
+    problem = Problem(model, [data], design, varied, priors)
+    lower, upper = dynamics.fit_bounds(fit)
+    _, chi2 = gauss_newton_many(problem, fit.theta[None, :], lower=lower, upper=upper, iters=6)
+    return float(chi2[0]) + 2 * (fit.nvarys + data.n_nuisance)
+
+
+def _fit_model(record, scene, model, vary, t_begin, opts, data=None, found=None) -> ContactFit:
+    """One fit of ``model`` with the options of :func:`fit_contact` (on ``data``, the record
+    prepared with them, where given); ``found`` maps the sensor's parameters the screen
+    found to (start value, source): fitted freely."""
+    opts = dict(opts)
     given = {k: opts.pop(k) for k in _PREPARE if k in opts}
     n_boot = int(opts.pop("n_boot", 200))
     seed = int(opts.pop("seed", 0))
     start = dict(opts.pop("start", None) or {})
     systematics = opts.pop("systematics", None)
     time_error = opts.pop("time_error", None)
+    if opts.pop("zero_shift", None) not in (None, False):
+        raise InputError("zero_shift is None (where the record shows one) or False (never)")
     if opts:
         raise InputError(
             f"fit_contact: unknown option(s) {', '.join(sorted(opts))}; see its docstring"
@@ -781,6 +956,10 @@ def fit_model(record, scene, model, vary, *, t_begin=None, data=None, **options)
         p = float(L.calibrate(s0("e")))
         init["alpha"] = p / float(L.material_to_param(1.0, K, data.m_eff, v0)) if p else 0.0
     syst = () if normal is None else resolve(systematics, data, tangential)
+    if found:  # what the screen found is fitted freely, from where it found it
+        syst = tuple(s for s in syst if s.param not in found) + tuple(
+            Systematic(k, k, float(v), math.inf, why) for k, (v, why) in found.items()
+        )
     priors = {}
     for s in syst:
         vary = (*vary, s.param) if s.param not in vary else vary
@@ -850,6 +1029,14 @@ def effective_variance(data, model, design, kw, time_error=None):
         "force and in time; Orear 1982): " + "; ".join(parts)
     )
     return dataclasses.replace(data, channels=tuple(chans)), note
+
+
+def _fitted_sensor(fit):
+    """The fit's sensor with the mode and the discharge at their fitted values."""
+    spec = fit.data.sensor
+    v = fit.values
+    fitted = {k: v[k] for k in ("resonance", "damping_ratio", "discharge") if k in fit.vary}
+    return dataclasses.replace(spec, **fitted) if fitted else spec
 
 
 def _geometry(fit, scene) -> dict | None:
@@ -928,6 +1115,11 @@ def _diagnosed(fit, record, scene, vary, options, t_begin, data) -> ContactFit:
     quiet = {k: v for k, v in options.items() if k not in ("n_boot", "seed", *_PREPARE)}
     m = fit.model
     spec = data.sensor
+    if fit.dynamics.get("what"):  # the others are judged with the dynamics found, as stated
+        data = fit.data.with_sensor(_fitted_sensor(fit))
+        spec = data.sensor
+        held = {k: fit.values[k] for k in SHIFT_PARAMS if k in fit.vary}
+        quiet["start"] = {**(quiet.get("start") or {}), **held}
 
     def refit(model, start_from=fit, order=None, **extra):
         alt_vary = tuple("e" if v == "alpha" and model.normal != m.normal else v for v in vary)

@@ -62,8 +62,9 @@ class Design:
             th = theta.copy()
             th[:, k] += step
             for o, b, p in zip(out, base, self.local(th), strict=True):
-                # equal entries (an infinite bandwidth among them) do not move
-                o[:, :, j] = np.where(p == b, 0.0, p - b) / step[:, None]
+                # equal entries (an infinite bandwidth or resonance among them) do not move
+                with np.errstate(invalid="ignore"):
+                    o[:, :, j] = np.where(p == b, 0.0, p - b) / step[:, None]
         return out
 
 

@@ -48,17 +48,18 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.signal import lfilter, sosfilt
 
-from ..errors import InputError
+from ..errors import InputError, SpikeWarning
 from ..record import channel
 from ..scene import Scene
 from ..simulate import tangential_history
 from ..smooth import noise_level
-from ..window import find_contact
+from ..window import find_contact, mad_sigma
 from .noise import WHITE, NoiseModel, measure_noise
 from .pulse import E_MIN, normal_pulse, shape_of
 from .sensor import SensorSpec, sensor_spec
@@ -95,6 +96,13 @@ PARAMS = (
     "leak_tn",
     "time_base",
     "bandwidth",
+    "resonance",
+    "damping_ratio",
+    "discharge",
+    "shift_n",
+    "shift_t",
+    "shift_at",
+    "shift_width",
 )
 #: The inputs known to a tolerance, among :data:`PARAMS`.
 SYSTEMATIC_PARAMS = (
@@ -107,7 +115,20 @@ SYSTEMATIC_PARAMS = (
     "leak_tn",
     "time_base",
     "bandwidth",
+    "resonance",
+    "damping_ratio",
+    "discharge",
+    "shift_n",
+    "shift_t",
+    "shift_at",
+    "shift_width",
 )
+#: The zero shift's parameters, among :data:`SYSTEMATIC_PARAMS` (fitted where the record
+#: shows one, no prior): its size on Fn and Ft [N], the instant it is half done and the time
+#: it takes [s] (:func:`zero_shift`).
+SHIFT_PARAMS = ("shift_n", "shift_t", "shift_at", "shift_width")
+#: The sensor chain's parameters, among :data:`PARAMS` (each column filtered with its own).
+CHAIN_PARAMS = ("bandwidth", "resonance", "damping_ratio", "discharge")
 UNITS = {
     "E_eff": "Pa",
     "e": "1",
@@ -128,6 +149,13 @@ UNITS = {
     "bandwidth": "Hz",
     "p_y": "Pa",
     "v_y": "m/s",
+    "resonance": "Hz",
+    "damping_ratio": "1",
+    "discharge": "s",
+    "shift_n": "N",
+    "shift_t": "N",
+    "shift_at": "s",
+    "shift_width": "s",
 }
 _I = {name: i for i, name in enumerate(PARAMS)}
 #: The analytic parameters that mix the axes (their derivatives: :meth:`ForwardModel._dmix`).
@@ -153,6 +181,9 @@ class Channel:
     n_noise : int — samples σ was measured on (0: not measured, e.g. given)
     noise : pipeline.fit.noise.NoiseModel — the noise's correlation, measured before the
         trigger (white where none shows)
+    index : numpy.ndarray or None — the samples' places on the record's common grid
+        (:attr:`RecordData.n_grid`): None where the channel has every sample of it, else
+        those left after the spikes and saturated samples are left out
     """
 
     name: str
@@ -162,6 +193,7 @@ class Channel:
     basis: np.ndarray | None = None
     n_noise: int = 0
     noise: NoiseModel = WHITE
+    index: np.ndarray | None = None
 
     def __post_init__(self):
         wb = None
@@ -211,6 +243,9 @@ class RecordData:
     sos : numpy.ndarray or None — the stated filter discretised on the fine grid (None
         without a stated bandwidth)
     notes : tuple of str — what the preparation assumed or left out
+    excluded : dict — {channel: [sample indices of the record]} left out of the fit: the
+        spikes the window found (:func:`pipeline.window.find_spikes`) and samples at the
+        ADC's end codes
     m_eff, R_eff, lam, g_ratio, cos_a, sin_a : float — scene constants: m* [kg], R* [m],
         m*/m_t, G*/E*, cos and sin of the incidence (at the stated mass and radius; the
         model takes them per column from the ``mass`` and ``radius`` parameters)
@@ -225,6 +260,19 @@ class RecordData:
     oversample: int
     sos: np.ndarray | None = None
     notes: tuple = field(default_factory=tuple)
+    excluded: dict = field(default_factory=dict)
+
+    @property
+    def n_grid(self) -> int:
+        """Samples of the common grid the channels index (the fine grid's sample instants)."""
+        if self.fine is None:
+            return self.channels[0].t.size
+        return (self.fine.size - 1) // self.oversample + 1
+
+    def at_channel(self, x, i):
+        """``x`` (…, n_grid) at the samples of channel ``i``."""
+        idx = self.channels[i].index
+        return x if idx is None else x[..., idx]
 
     # ------------------------------------------------------------- scene constants
     def __post_init__(self):
@@ -275,6 +323,12 @@ class RecordData:
         out[_I["gain_n"]] = out[_I["gain_t"]] = 1.0
         out[_I["leak"]] = out[_I["leak_tn"]] = out[_I["time_base"]] = 0.0
         out[_I["bandwidth"]] = float(self.sensor.bandwidth)
+        out[_I["resonance"]] = float(self.sensor.resonance)
+        out[_I["damping_ratio"]] = float(self.sensor.damping_ratio)
+        out[_I["discharge"]] = float(self.sensor.discharge)
+        out[_I["shift_n"]] = out[_I["shift_t"]] = 0.0
+        out[_I["shift_at"]] = 0.5 * (self.window.t_start + self.window.t_end)
+        out[_I["shift_width"]] = 0.5 * self.window.duration
         return out
 
     def with_sensor(self, spec: SensorSpec) -> RecordData:
@@ -325,18 +379,40 @@ def param_scales(data: RecordData) -> np.ndarray:
             0.001,  # leak_tn
             1e-5,  # time_base
             1e4,  # bandwidth [Hz]
+            1e4,  # resonance [Hz]
+            0.01,  # damping_ratio
+            data.window.duration,  # discharge [s]
+            max(0.01 * abs(float(data.window.peak)), 1e-9),  # shift_n [N]
+            max(0.01 * abs(float(data.window.peak)), 1e-9),  # shift_t [N]
+            data.window.duration,  # shift_at [s]
+            data.window.duration,  # shift_width [s]
         ]
     )
 
 
+def _repaired(record, win, name):
+    """(t [s], values [N]) of channel ``name`` with the window's spikes repaired."""
+    t, f = channel(record, name)
+    mine = [sp for sp in win.spikes if sp.channel == name]
+    if mine and t.size == record.sizes["time"]:
+        f = np.array(f, dtype=float, copy=True)
+        f[[sp.index for sp in mine]] = [sp.repaired for sp in mine]
+    return t, f
+
+
 def _noise_model(record, win, name, t, f) -> NoiseModel:
     """The channel's noise model from its pre-trigger samples (sensor records; white for
-    the others, and where the record is not uniformly sampled)."""
+    the others, and where the record is not uniformly sampled), less their own line (the
+    window's baseline, fitted on both sides, tilts where the zero shifts or the charge
+    leaks, and a tilt is no correlation of the noise)."""
     if win.kind != "sensor" or name not in win.baseline:
         return WHITE
     dt = np.diff(t)
     if t.size < 3 or np.ptp(dt) > 1e-6 * np.mean(dt):
         return WHITE
+    pre = _before_contact(win, t, f)
+    if pre is not None:
+        return measure_noise(pre)
     pre = t < win.t_start - 0.1 * win.duration
     return measure_noise(f[pre] - win.baseline[name](t[pre]))
 
@@ -369,6 +445,7 @@ def prepare(
     window_options=None,
     baseline: bool | None = None,
     noise_model: bool = True,
+    quiet_after: bool | None = None,
 ) -> RecordData:
     """The samples, weights and sensor model a fit of ``record`` uses (module notes).
 
@@ -388,6 +465,10 @@ def prepare(
         estimated from trigger margins)
     noise_model : bool — measure each channel's noise correlation before the trigger and
         whiten the fit's residuals by it (:mod:`pipeline.fit.noise`; default True)
+    quiet_after : bool, optional — measure the noise on the samples before the contact only
+        (the samples after it carry the sensor's own response: a ring, an undershoot, a
+        shifted zero); default: where the sensor states a mode or a discharge, else on both
+        sides, as the window does
 
     Returns
     -------
@@ -405,9 +486,13 @@ def prepare(
             )
     if margin is not None and not (margin >= 0):
         raise InputError(f"margin must be ≥ 0 (a fraction of the contact duration), got {margin}")
-    win = find_contact(record, **(window_options or {}))
+    with warnings.catch_warnings():  # a fit says what it leaves out (its verdict)
+        warnings.simplefilter("ignore", SpikeWarning)
+        win = find_contact(record, **(window_options or {}))
     spec = sensor_spec(record, sensor)
     notes = list(spec.notes)
+    if quiet_after is None:
+        quiet_after = spec.dynamic
     dur = win.duration
     if margin is None:
         lo, hi = -math.inf, math.inf
@@ -416,19 +501,46 @@ def prepare(
     if baseline is None:
         baseline = win.kind == "sensor"
     half = None if not math.isfinite(spec.full_scale) else 0.5 * spec.full_scale
-    chans = []
+    spikes = win.spike_indices()
+    grid, raw = None, []
     for name in channels:
         t, f = channel(record, name)
         keep = (t >= lo) & (t <= hi)
+        drop = np.zeros(t.size, dtype=bool)
         if half is not None:
             sat = np.abs(f) >= half - 0.5 * spec.quantum - 1e-12 * half
             if np.any(sat & keep):
                 notes.append(
                     f"{name}: {int(np.sum(sat & keep))} saturated samples (ADC end codes) left out"
                 )
-            keep &= ~sat
+            drop |= sat
+        if name in spikes and t.size == record.sizes["time"]:
+            drop[spikes[name]] = True
+            notes.append(
+                f"{name}: samples {spikes[name]} left out: isolated spikes no force history "
+                "can make (pipeline.window.find_spikes)"
+            )
+        raw.append((name, t, f, keep, drop))
+        if grid is None:
+            grid = t[keep]
+        elif grid is not False and not np.array_equal(grid, t[keep]):
+            grid = False  # the channels do not share one clock
+    dt = np.diff(grid) if grid is not False else np.zeros(0)
+    uniform = grid is not False and grid.size > 2 and np.ptp(dt) <= 1e-6 * np.mean(dt)
+    chans, excluded = [], {}
+    for name, t, f, keep, drop in raw:
+        where = np.flatnonzero(keep)
+        left = drop[where]
+        if np.any(left):
+            excluded[name] = where[left].tolist()
+        if not uniform:  # without a common grid, a left-out sample is simply dropped
+            keep = keep & ~drop
+            left = np.zeros(np.count_nonzero(keep), dtype=bool)
         tc = t[keep]
         yc = f[keep] - win.baseline[name](tc) if name in win.baseline else f[keep]
+        index = np.flatnonzero(~left) if np.any(left) else None
+        if index is not None:
+            tc, yc = tc[index], yc[index]
         if tc.size < 5:
             raise InputError(
                 f"{name} has {tc.size} samples in the contact window: too few to fit",
@@ -436,6 +548,8 @@ def prepare(
             )
         if noise is not None and name in noise:
             sigma, n_noise = float(noise[name]), 0
+        elif quiet_after and (pre := _before_contact(win, t, f, spikes.get(name))) is not None:
+            sigma, n_noise = mad_sigma(pre), pre.size
         else:
             sigma, note = _noise(win, name, tc, yc)
             n_noise = record.sizes["time"] - win.n_samples if note is None else tc.size
@@ -444,20 +558,21 @@ def prepare(
         floor = max(spec.quantum / math.sqrt(12.0), 1e-9 * float(np.max(np.abs(yc))), 1e-300)
         sigma = max(sigma, floor)
         basis = baseline_basis(tc) if baseline else None
-        model = _noise_model(record, win, name, t, f) if noise_model else WHITE
-        chans.append(Channel(name, tc, yc, sigma, basis, int(max(n_noise, 0)), model))
+        model = WHITE
+        if noise_model:
+            model = _noise_model(record, win, name, *_repaired(record, win, name))
+        chans.append(Channel(name, tc, yc, sigma, basis, int(max(n_noise, 0)), model, index))
     fine, sos, os_ = None, None, 1
-    t0 = chans[0].t
-    same = all(c.t.size == t0.size and np.array_equal(c.t, t0) for c in chans)
-    dt = np.diff(t0)
-    if same and t0.size > 2 and np.ptp(dt) <= 1e-6 * np.mean(dt):
+    if uniform:
         # a uniform record gets the filter's fine grid even without a stated bandwidth:
         # a fit may then find the bandwidth (pipeline.fit.contact, systematics)
         os_ = int(oversample)
-        fine, h = fine_grid(t0, os_)
+        fine, h = fine_grid(grid, os_)
         sos = spec.sos(h) if spec.filtered else None
-    elif spec.filtered:
-        notes.append("the record is not sampled uniformly on one clock: its filter is not modelled")
+    elif spec.filtered or spec.dynamic:
+        notes.append(
+            "the record is not sampled uniformly on one clock: its sensor's filter is not modelled"
+        )
     return RecordData(
         record=record,
         scene=scene,
@@ -468,6 +583,7 @@ def prepare(
         oversample=os_,
         sos=sos,
         notes=tuple(notes),
+        excluded=excluded,
     )
 
 
@@ -483,6 +599,28 @@ def fine_grid(t, oversample: int) -> tuple:
     a sample (sample k at ``fine[k * oversample]``), and its step [s]."""
     h = float(np.mean(np.diff(t))) / oversample
     return t[0] + np.arange((t.size - 1) * oversample + 1) * h, h
+
+
+def _before_contact(win, t, f, spikes=None):
+    """The channel's samples before the contact (less a tenth of its duration), less their
+    own least-squares line; None where there are fewer than 20."""
+    if win.kind != "sensor":
+        return None
+    pre = t < win.t_start - 0.1 * win.duration
+    if spikes:
+        pre[spikes] = False
+    if np.count_nonzero(pre) < 20:
+        return None
+    tt, yy = t[pre], f[pre]
+    A = np.column_stack([np.ones(tt.size), tt - tt.mean()])
+    return yy - A @ np.linalg.lstsq(A, yy, rcond=None)[0]
+
+
+def zero_shift(t, at, width):
+    """The zero shift's course [-] at instants ``t`` [s] (…, n): 0 before, 1 after, rising
+    linearly over ``width`` [s] centred on ``at`` [s] (both (…, 1) against ``t``)."""
+    w = np.maximum(np.asarray(width, dtype=float), 1e-300)
+    return np.clip((t - (np.asarray(at) - 0.5 * w)) / w, 0.0, 1.0)
 
 
 def weighted_residuals(data: RecordData, pred, derivative=False):
@@ -731,11 +869,19 @@ class ForwardModel:
         respect to the ``analytic`` parameters (default every one of :data:`ANALYTIC`), one
         (nderiv, len(analytic), n_c) array per channel."""
         names = [c.name for c in data.channels]
-        bw = P[:, _I["bandwidth"]]
-        if data.fine is None or not np.any(np.isfinite(bw)):
+        chain = P[:, [_I[k] for k in CHAIN_PARAMS]]  # (C, 4): bandwidth, fn, ζ, τ
+        bw, fn, tau = chain[:, 0], chain[:, 1], chain[:, 3]
+        dynamic = np.isfinite(fn) | np.isfinite(tau)
+        shift = P[:, [_I["shift_n"], _I["shift_t"]]]
+        shifted = np.any(shift != 0.0)
+        at, width = P[:, _I["shift_at"], None], P[:, _I["shift_width"], None]
+        if data.fine is None or not np.any(np.isfinite(bw) | dynamic):
             out, der = [], []
             for ch in data.channels:
                 m, d = self._forces(data, P, sol, ch.t, [ch.name], nderiv, analytic)
+                if shifted:
+                    k = 0 if ch.name == "Fn" else 1
+                    m[0] = m[0] + shift[:, k, None] * zero_shift(ch.t[None, :], at, width)
                 out.append(m[0])
                 der.append(None if d is None else d[0])
             return (out, der) if nderiv else out
@@ -746,39 +892,65 @@ class ForwardModel:
         t0 = P[:, _I["t0"]]
         tc = sol.pulse.tau_c[sol.index] * T
         fine = data.fine
-        lo = max(int(np.searchsorted(fine, t0.min())) - 1, 0)
+        first = t0.min() if not shifted else min(t0.min(), float(np.min(at - 0.5 * width)))
+        lo = max(int(np.searchsorted(fine, first)) - 1, 0)
         hi = min(int(np.searchsorted(fine, (t0 + tc).max())) + 1, fine.size)
         lo -= lo % data.oversample  # start on a sample instant
         step = fine[1] - fine[0] if fine.size > 1 else 1.0
-        row_bw = bw.tolist()
-        ring = data.sensor.ring_time(min(b for b in row_bw if math.isfinite(b)))
-        end = min(fine.size, hi + int(math.ceil(ring / step)) + 1)
+        plain = not np.any(dynamic)  # the low-pass alone: its rows grouped by bandwidth
+        if plain:
+            row_bw = bw.tolist()
+            ring = data.sensor.ring_time(min(b for b in row_bw if math.isfinite(b)))
+        else:
+            ring = max(data.sensor.ring_time(*row) for row in _distinct_rows(chain)[0])
+        end = fine.size if shifted else min(fine.size, hi + int(math.ceil(ring / step)) + 1)
         m, d = self._forces(data, P, sol, fine[lo:hi], names, nderiv, analytic, (ds, T, Fs, v0))
         ncol, nch, na = P.shape[0], len(names), len(analytic)
         # rows: every channel's columns, then every channel's derivative rows; each row
         # keeps the bandwidth of its column
         rows = list(m) + ([x.reshape(-1, x.shape[-1]) for x in d] if nderiv else [])
-        row_bw = row_bw * nch + ([b for b in row_bw[:nderiv] for _ in range(na)] * nch)
-        full = np.zeros((len(row_bw), end - lo))
+        n_rows = sum(x.shape[0] for x in rows)
+        full = np.zeros((n_rows, end - lo))
         np.concatenate(rows, axis=0, out=full[:, : hi - lo])
-        groups = {}  # the rows of each bandwidth
-        for i, b in enumerate(row_bw):
-            groups.setdefault(b, []).append(i)
-        if len(groups) == 1:
-            filt = _filtered(data.sensor, step, row_bw[0], full)[:, :: data.oversample]
-        else:
-            filt = np.empty((full.shape[0], full[:, :: data.oversample].shape[1]))
-            for b, rows_b in groups.items():
-                filt[rows_b] = _filtered(data.sensor, step, b, full[rows_b])[:, :: data.oversample]
-        out = np.zeros((filt.shape[0], data.channels[0].t.size))
+        if shifted:  # a charge the crystal keeps: it passes the chain as the force does
+            ramp = zero_shift(fine[None, lo:end], at, width)
+            for i, name in enumerate(names):
+                full[i * ncol : (i + 1) * ncol] += shift[:, 0 if name == "Fn" else 1, None] * ramp
+        if plain:
+            row_bw = row_bw * nch + ([b for b in row_bw[:nderiv] for _ in range(na)] * nch)
+            groups = {}  # the rows of each bandwidth
+            for i, b in enumerate(row_bw):
+                groups.setdefault(b, []).append(i)
+            if len(groups) == 1:
+                filt = _filtered(data.sensor, step, row_bw[0], full)[:, :: data.oversample]
+            else:
+                filt = np.empty((full.shape[0], full[:, :: data.oversample].shape[1]))
+                for b, rows_b in groups.items():
+                    x = _filtered(data.sensor, step, b, full[rows_b])
+                    filt[rows_b] = x[:, :: data.oversample]
+        else:  # each row through its column's chain (bandwidth, mode, discharge)
+            row_chain = np.concatenate(
+                [chain] * nch + ([np.repeat(chain[:nderiv], na, axis=0)] * nch if nderiv else [])
+            )
+            filt = np.empty((n_rows, full[:, :: data.oversample].shape[1]))
+            uniq, which = _distinct_rows(row_chain)
+            for j, value in enumerate(uniq):
+                sel = which == j
+                f = data.sensor.chain(step, *value)
+                x = full[sel] if f is None else f(full[sel], axis=-1)
+                filt[sel] = x[:, :: data.oversample]
+        out = np.zeros((filt.shape[0], data.n_grid))
         k0 = lo // data.oversample
         out[:, k0 : k0 + filt.shape[1]] = filt
-        pred = [out[i * ncol : (i + 1) * ncol] for i in range(nch)]
+        pred = [data.at_channel(out[i * ncol : (i + 1) * ncol], i) for i in range(nch)]
         if not nderiv:
             return pred
         base = nch * ncol
         der = [
-            out[base + i * na * nderiv : base + (i + 1) * na * nderiv].reshape(nderiv, na, -1)
+            data.at_channel(
+                out[base + i * na * nderiv : base + (i + 1) * na * nderiv].reshape(nderiv, na, -1),
+                i,
+            )
             for i in range(nch)
         ]
         return pred, der

@@ -76,8 +76,20 @@ def _bounds(name, value, data):
         return (-0.5, 0.5)
     if name == "time_base":
         return (-0.1, 0.1)
-    if name == "bandwidth":
+    if name in ("bandwidth", "resonance"):
         return (value / 20.0, value * 20.0)
+    if name == "damping_ratio":
+        return (1e-3, 0.95)
+    if name == "discharge":
+        return (value / 100.0, value * 100.0)
+    if name in ("shift_n", "shift_t"):
+        return (-math.inf, math.inf)
+    if name in ("shift_at", "shift_width"):
+        w = data.window
+        step = float(np.median(np.diff(data.channels[0].t))) / max(data.oversample, 1)
+        if name == "shift_at":
+            return (w.t_start - 0.25 * w.duration, w.t_end + 0.25 * w.duration)
+        return (2.0 * step, 2.0 * w.duration)
     if name == "t0":
         w = data.window
         return t0_bounds(data.channels[0].t[0], w.t_start, w.duration)

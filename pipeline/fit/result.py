@@ -100,6 +100,8 @@ class FitResult:
     misfit : pipeline.fit.procedure.Misfit or None — the misfit test
     model_spread : dict — {name: σ} spread between the models the data cannot tell apart
         (the budget's ``model`` term; :func:`pipeline.fit_contact`)
+    extra_terms : dict — {name: {term: σ}} further Type B terms of the budget (the bounds
+        of a mode or a discharge the record does not show: :mod:`pipeline.fit.dynamics`)
     """
 
     names: tuple
@@ -125,6 +127,7 @@ class FitResult:
     chi2_prior: float = 0.0
     misfit: object = None
     model_spread: dict = field(default_factory=dict)
+    extra_terms: dict = field(default_factory=dict)
 
     # ------------------------------------------------------------ numbers
     @property
@@ -249,12 +252,16 @@ class FitResult:
                 w = 0.0 if self.sys_weights is None else float(self.sys_weights[i, j])
                 key = by_name.get(pname, pname)  # the two leaks: one systematic
                 row[key] = math.hypot(row.get(key, 0.0), w)
+            for key, u in self.extra_terms.get(n, {}).items():
+                row[key] = math.hypot(row.get(key, 0.0), u)
             row["model"] = float(self.model_spread.get(n, 0.0))
             terms = [v for k, v in row.items() if k != "total"]
             row["total"] = math.sqrt(sum(v * v for v in terms))
             if n in self.one_sided:
                 row = dict.fromkeys(row, math.nan)
-            order = ["stat", *[s for s in SYSTEMATICS if s in row], "model", "total"]
+            order = ["stat", *[s for s in SYSTEMATICS if s in row]]
+            order += [k for k in row if k not in order and k not in ("model", "total")]
+            order += ["model", "total"]
             out[n] = {k: row[k] for k in order if k in row}
         return out
 

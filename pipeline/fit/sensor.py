@@ -19,30 +19,41 @@ only adds noise:
   c biases μ by about c/μ (0.5 % of Fn on μ = 0.13: 4 %); the fit then checks whether the
   out-of-plane channel Fy tracks Fn and warns if so (a sign of cross-talk);
 - **the ADC**: its step q sets a floor q/√12 under the noise level of the weights, and
-  samples at the converter's end codes (saturated) are left out of the fit.
+  samples at the converter's end codes (saturated) are left out of the fit;
+- **the transducer's dynamics**, in series with the low-pass: the mounted mode (natural
+  frequency ``resonance`` [Hz], damping ratio ``damping_ratio``) and the piezo's discharge
+  (time constant ``discharge`` [s], a first-order high-pass), the whole chain discretised
+  at once exactly as the low-pass alone is (:func:`pipeline.sensor_model.foh_filter`).
+  Left out, a mode a few contact frequencies up sharpens the pulse (E* several per cent
+  high) and rings after it; a discharge undershoots after it and eats the impulse by
+  (T − t̄)/τ over a span T (docs/uncertainty.md). Where none is stated, the fit looks for
+  them in the record (:mod:`pipeline.fit.dynamics`).
 
 Where the values come from, first found wins: the ``sensor`` argument (a
 :class:`SensorSpec`, or a mapping such as a sample sidecar's ``"sensor"`` block); the
 ``sensor_*`` attributes :func:`pipeline.sensor_model.to_sensor` writes; the ``# key: value``
 metadata of a sensor CSV (``bandwidth [Hz]``, ``filter order``, ``adc bits``,
-``full scale [N]``, ``sample rate [Hz]``, as ``meta_*`` attributes). A bandwidth without an
+``full scale [N]``, ``sample rate [Hz]``, ``resonance [Hz]``, ``damping ratio``,
+``discharge [s]``, as ``meta_*`` attributes). A bandwidth without an
 order is taken as a 2nd-order Butterworth (the usual charge-amplifier low-pass), and the
 fit's notes say so.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy.signal import sosfilt
 
 from ..errors import InputError, PipelineWarning
 from ..io.metadata import parse_quantity, stated_bandwidth
 from ..record import channel
-from ..sensor_model import butterworth_sos
+from ..sensor_model import butterworth_sos, foh_filter, sensor_zpk
 
 __all__ = ["SensorSpec", "sensor_spec", "CrossTalkWarning", "fy_tracks_fn"]
 
@@ -52,6 +63,10 @@ class CrossTalkWarning(PipelineWarning):
 
 
 _DEFAULT_ORDER = 2
+#: The damping ratio taken for a stated mode whose damping is not stated [-]: a piezo
+#: transducer bolted under a target rings lightly (ζ ≈ 0.01–0.1); known to ±100 %
+#: (:mod:`pipeline.fit.systematics`).
+DEFAULT_DAMPING = 0.05
 
 
 @dataclass(frozen=True)
@@ -68,6 +83,11 @@ class SensorSpec:
         columns true (Fn, Ft, Fy); None: unknown
     source : str — where the values came from
     notes : tuple of str — assumptions made (e.g. an order not stated)
+    resonance : float — natural frequency of the mounted transducer's mode [Hz]; inf: none
+    damping_ratio : float — its damping ratio ζ [-]
+    discharge : float — discharge time constant τ of the piezo and its amplifier [s]; inf:
+        none
+    damping_stated : bool — False where ζ is the default taken for a mode stated without it
     """
 
     bandwidth: float = math.inf
@@ -77,36 +97,70 @@ class SensorSpec:
     crosstalk: np.ndarray | None = None
     source: str = "none"
     notes: tuple = field(default_factory=tuple)
+    resonance: float = math.inf
+    damping_ratio: float = DEFAULT_DAMPING
+    discharge: float = math.inf
+    damping_stated: bool = True
 
     @property
     def filtered(self) -> bool:
         return math.isfinite(self.bandwidth)
 
+    @property
+    def dynamic(self) -> bool:
+        """A mode or a discharge is stated."""
+        return math.isfinite(self.resonance) or math.isfinite(self.discharge)
+
     def delay(self) -> float:
-        """Low-frequency group delay of the filter [s] (0 without one): −Σ cos θ_k/ω_c over
-        the Butterworth poles ω_c·e^{iθ_k}, √2/(2π f_c) for order 2."""
+        """Low-frequency group delay of the filter and the mode [s] (0 without them): −Σ
+        cos θ_k/ω_c over the Butterworth poles ω_c·e^{iθ_k}, √2/(2π f_c) for order 2, plus
+        the mode's 2ζ/ωn."""
+        out = 0.0
+        if math.isfinite(self.resonance):
+            out += 2.0 * self.damping_ratio / (2 * np.pi * self.resonance)
         if not self.filtered:
-            return 0.0
+            return out
         n = self.filter_order
         k = np.arange(1, n + 1)
         poles = np.exp(1j * np.pi * (2 * k + n - 1) / (2 * n))
-        return float(-np.sum(poles.real) / (2 * np.pi * self.bandwidth))
+        return out + float(-np.sum(poles.real) / (2 * np.pi * self.bandwidth))
 
-    def ring_time(self, bandwidth: float | None = None) -> float:
-        """Time for the filter's impulse response to decay below 1e-16 of its scale [s]:
-        37 time constants of its slowest pole, ω_c·sin(π/(2n)) (0 without a filter); at
-        ``bandwidth`` [Hz] instead of the stated one if given."""
+    def ring_time(
+        self, bandwidth=None, resonance=None, damping_ratio=None, discharge=None
+    ) -> float:
+        """Time for the chain's impulse response to decay below 1e-16 of its scale [s]: 37
+        time constants of its slowest pole — the low-pass's ω_c·sin(π/(2n)), the mode's
+        ζωn, the discharge's 1/τ — (0 without any); at the values given instead of the
+        stated ones."""
         bw = self.bandwidth if bandwidth is None else bandwidth
-        if not math.isfinite(bw):
-            return 0.0
-        slowest = 2 * np.pi * bw * math.sin(math.pi / (2 * self.filter_order))
-        return 37.0 / slowest
+        fn = self.resonance if resonance is None else resonance
+        zeta = self.damping_ratio if damping_ratio is None else damping_ratio
+        tau = self.discharge if discharge is None else discharge
+        rates = []
+        if math.isfinite(bw):
+            rates.append(2 * np.pi * bw * math.sin(math.pi / (2 * self.filter_order)))
+        if math.isfinite(fn):
+            rates.append(2 * np.pi * fn * zeta)
+        if math.isfinite(tau):
+            rates.append(1.0 / tau)
+        return 37.0 / min(rates) if rates else 0.0
 
     def sos(self, dt: float, bandwidth: float | None = None) -> np.ndarray:
-        """Second-order sections of the filter discretised at step ``dt`` [s] (FOH), at
+        """Second-order sections of the low-pass discretised at step ``dt`` [s] (FOH), at
         ``bandwidth`` [Hz] instead of the stated one if given."""
         bw = self.bandwidth if bandwidth is None else bandwidth
         return _sos(self.filter_order, float(bw), float(dt)).copy()
+
+    def chain(self, dt, bandwidth=None, resonance=None, damping_ratio=None, discharge=None):
+        """The whole chain — low-pass, mode, discharge — discretised at step ``dt`` [s] (FOH):
+        a callable on samples (…, n) (:class:`pipeline.sensor_model.FohFilter`; the
+        low-pass's second-order sections where it is alone), at the values given instead
+        of the stated ones."""
+        bw = self.bandwidth if bandwidth is None else bandwidth
+        fn = self.resonance if resonance is None else resonance
+        zeta = self.damping_ratio if damping_ratio is None else damping_ratio
+        tau = self.discharge if discharge is None else discharge
+        return _chain(self.filter_order, float(bw), float(fn), float(zeta), float(tau), float(dt))
 
     def summary(self) -> dict:
         return {
@@ -115,6 +169,9 @@ class SensorSpec:
             "quantum_N": self.quantum,
             "full_scale_N": self.full_scale,
             "crosstalk": None if self.crosstalk is None else self.crosstalk.tolist(),
+            "resonance_Hz": self.resonance,
+            "damping_ratio": self.damping_ratio if math.isfinite(self.resonance) else None,
+            "discharge_s": self.discharge,
             "source": self.source,
             "notes": list(self.notes),
         }
@@ -123,6 +180,25 @@ class SensorSpec:
 @functools.lru_cache(maxsize=64)
 def _sos(order, bandwidth, dt):
     return butterworth_sos(order, bandwidth, dt)
+
+
+class _Sos:
+    """The low-pass alone as a callable (second-order sections)."""
+
+    def __init__(self, sos):
+        self.sos = sos
+
+    def __call__(self, x, axis=-1):
+        return sosfilt(self.sos, x, axis=axis)
+
+
+@functools.lru_cache(maxsize=256)
+def _chain(order, bandwidth, resonance, zeta, discharge, dt):
+    if math.isinf(resonance) and math.isinf(discharge):
+        if math.isinf(bandwidth):
+            return None
+        return _Sos(_sos(order, bandwidth, dt))
+    return foh_filter(*sensor_zpk(bandwidth, order, resonance, zeta, discharge), dt)
 
 
 def _num(value, name, src):
@@ -160,13 +236,16 @@ def _from_mapping(m: Mapping, src: str) -> SensorSpec:
         "seed",
         "saturated",
         "axes",
+        "resonance",
+        "damping_ratio",
+        "discharge",
     }
     unknown = sorted(set(m) - known)
     if unknown:
         raise InputError(
             f"unknown sensor field(s) {', '.join(map(repr, unknown))} ({src}); the fits read "
-            "bandwidth [Hz], filter_order, quantum [N] or bits with full_scale [N], and "
-            "crosstalk_matrix (3×3, row-major)"
+            "bandwidth [Hz], filter_order, quantum [N] or bits with full_scale [N], "
+            "crosstalk_matrix (3×3, row-major), resonance [Hz], damping_ratio and discharge [s]"
         )
     notes = []
     bw = _num(m["bandwidth"], "bandwidth", src) if "bandwidth" in m else math.inf
@@ -198,10 +277,33 @@ def _from_mapping(m: Mapping, src: str) -> SensorSpec:
         if C.size != 9 or not np.all(np.isfinite(C)):
             raise InputError(f"sensor crosstalk_matrix must hold 9 finite numbers ({src})")
         C = C.reshape(3, 3)
-    return SensorSpec(bw, order, q, fs, C, src, tuple(notes))
+    fn = _num(m["resonance"], "resonance", src) if m.get("resonance") is not None else math.inf
+    if not fn > 0:
+        raise InputError(f"sensor resonance = {fn!r} Hz must be positive, or inf for none ({src})")
+    tau = _num(m["discharge"], "discharge", src) if m.get("discharge") is not None else math.inf
+    if not tau > 0:
+        raise InputError(f"sensor discharge = {tau!r} s must be positive, or inf for none ({src})")
+    if m.get("damping_ratio") is not None:
+        zeta = _num(m["damping_ratio"], "damping_ratio", src)
+        if not 0 < zeta < 1:
+            raise InputError(
+                f"sensor damping_ratio = {zeta!r} must lie in (0, 1): the mounted mode rings "
+                f"(a bolted piezo transducer's ζ ≈ 0.01–0.1) ({src})"
+            )
+    else:
+        zeta = DEFAULT_DAMPING
+        if math.isfinite(fn):
+            notes.append(
+                f"the mounted mode's damping ratio is not stated: ζ = {zeta} is assumed (a "
+                "bolted piezo transducer rings lightly), known to ±100 %"
+            )
+    stated = m.get("damping_ratio") is not None or not math.isfinite(fn)
+    return SensorSpec(bw, order, q, fs, C, src, tuple(notes), fn, zeta, tau, stated)
 
 
 _FORCE_UNITS = {"": 1.0, "n": 1.0, "kn": 1e3, "mn": 1e-3}
+_FREQUENCY_UNITS = {"": 1.0, "hz": 1.0, "khz": 1e3, "mhz": 1e6}
+_TIME_UNITS = {"": 1.0, "s": 1.0, "ms": 1e-3, "us": 1e-6, "µs": 1e-6, "μs": 1e-6}
 
 
 def _from_metadata(attrs) -> dict:
@@ -231,6 +333,18 @@ def _from_metadata(attrs) -> dict:
                 out["full_scale"] = value * _FORCE_UNITS[unit.lower()]
         elif squashed == "bandwidthhz" and "bandwidth" not in out:  # unit kept in the key
             out["bandwidth"] = value
+        elif squashed.startswith(("resonance", "mountedresonance", "naturalfrequency")):
+            unit = unit or squashed.rsplit("resonance", 1)[-1].rsplit("frequency", 1)[-1]
+            factor = _FREQUENCY_UNITS.get(unit.lower())
+            if factor is not None:
+                out["resonance"] = value * factor
+        elif squashed in ("dampingratio", "damping"):
+            out["damping_ratio"] = value
+        elif squashed.startswith(("discharge", "timeconstant")):
+            unit = unit or squashed.rsplit("discharge", 1)[-1].rsplit("timeconstant", 1)[-1]
+            factor = _TIME_UNITS.get(unit.lower())
+            if factor is not None:
+                out["discharge"] = value * factor
     return out
 
 
@@ -259,7 +373,17 @@ def sensor_spec(record, sensor=None) -> SensorSpec:
         attrs = record.attrs
         fields = _from_metadata(attrs)
         stated = {k.removeprefix("sensor_"): v for k, v in attrs.items() if k.startswith("sensor_")}
-        keep = ("bandwidth", "filter_order", "quantum", "full_scale", "bits", "crosstalk_matrix")
+        keep = (
+            "bandwidth",
+            "filter_order",
+            "quantum",
+            "full_scale",
+            "bits",
+            "crosstalk_matrix",
+            "resonance",
+            "damping_ratio",
+            "discharge",
+        )
         fields.update({k: v for k, v in stated.items() if k in keep})
         if "bandwidth" in stated and "filter_order" in stated:
             src = "the record's sensor_* attributes"
@@ -268,14 +392,10 @@ def sensor_spec(record, sensor=None) -> SensorSpec:
         spec = _from_mapping(fields, src) if fields else SensorSpec()
     if any(k.startswith("decouple") for k in record.attrs) and spec.crosstalk is not None:
         # the loader already applied a decoupling matrix: nothing left to mix
-        spec = SensorSpec(
-            spec.bandwidth,
-            spec.filter_order,
-            spec.quantum,
-            spec.full_scale,
-            None,
-            spec.source,
-            spec.notes + ("the record was decoupled when loaded: no cross-talk modelled",),
+        spec = dataclasses.replace(
+            spec,
+            crosstalk=None,
+            notes=spec.notes + ("the record was decoupled when loaded: no cross-talk modelled",),
         )
     return spec
 

@@ -52,7 +52,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .forward import Channel, RecordData, baseline_basis, fine_grid
+from .forward import Channel, RecordData, baseline_basis
 
 __all__ = ["RecordStore", "RecordSummary", "pack", "unpack", "load_chunk", "CHUNK"]
 
@@ -81,7 +81,11 @@ def pack(data: RecordData) -> dict:
             }
         )
     state["channels"] = chans
-    state["fine"] = data.fine is not None
+    fine = data.fine  # the grid the channels index (samples left out leave gaps in theirs)
+    if fine is not None:
+        step = (fine[-1] - fine[0]) / (fine.size - 1) if fine.size > 1 else 1.0
+        fine = (fine[0], step, fine.size)
+    state["fine"] = fine
     return state
 
 
@@ -98,10 +102,9 @@ def unpack(state: dict) -> RecordData:
                 basis = bases[id(c["t"])] = baseline_basis(c["t"])
         chans.append(Channel(**{**c, "basis": basis}))
     state["channels"] = tuple(chans)
-    if state["fine"]:
-        state["fine"] = fine_grid(state["channels"][0].t, state["oversample"])[0]
-    else:
-        state["fine"] = None
+    if state["fine"] is not None:
+        start, h, size = state["fine"]
+        state["fine"] = start + np.arange(size) * h
     return RecordData(**state)
 
 

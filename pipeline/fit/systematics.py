@@ -45,7 +45,22 @@ name           parameter, stated value          default u (``systematics=None``)
                                                 record cannot resolve it) when none is
                                                 stated
 ``time_base``  record clock's relative error    1e-4 (a digitiser's clock)
+``resonance``  the mounted transducer's mode's  10 % of a stated one (a tap test on the
+               natural frequency [Hz], stated   mount, or the maker's figure for it);
+                                                none stated: looked for in the record
+                                                (:mod:`pipeline.fit.dynamics`)
+``damping_``   that mode's damping ratio,       50 % of a stated one (a decay read off a
+``ratio``      stated                           tap test); not stated with a stated mode:
+                                                0.05 ± 0.05
+``discharge``  the piezo's discharge time       10 % of a stated one (the amplifier's
+               constant [s], stated             setting); none stated: looked for
 =============  ===============================  ==========================================
+
+A mode or a discharge that is not stated is no input known to a tolerance: where the
+mapping holds ``"resonance"`` (``"discharge"``) the fit looks for one in the record and
+fits it where the record shows it, or bounds it by what the record allows and carries the
+effect of the bound into the budget under that name (:mod:`pipeline.fit.dynamics`);
+without the key, none is modelled.
 
 ``{}`` takes every input as exact (the fit of old, and its speed); a mapping lists every
 input known only to a tolerance, the others exact — ``{**DEFAULT_SYSTEMATICS,
@@ -71,10 +86,22 @@ from ..errors import InputError
 from ..record import channel
 from .forward import PARAMS
 
-__all__ = ["SYSTEMATICS", "DEFAULT_SYSTEMATICS", "Systematic", "resolve", "PARAM_OF"]
+__all__ = ["SYSTEMATICS", "DEFAULT_SYSTEMATICS", "DYNAMICS", "Systematic", "resolve", "PARAM_OF"]
 
 #: The systematics' names, in the order of the budget.
-SYSTEMATICS = ("speed", "mass", "radius", "gain_n", "gain_t", "crosstalk", "bandwidth", "time_base")
+SYSTEMATICS = (
+    "speed",
+    "mass",
+    "radius",
+    "gain_n",
+    "gain_t",
+    "crosstalk",
+    "bandwidth",
+    "time_base",
+    "resonance",
+    "damping_ratio",
+    "discharge",
+)
 #: Each systematic's model parameter (:data:`pipeline.fit.forward.PARAMS`).
 PARAM_OF = {s: ("leak" if s == "crosstalk" else s) for s in SYSTEMATICS}
 DEFAULT_SYSTEMATICS = {
@@ -86,7 +113,12 @@ DEFAULT_SYSTEMATICS = {
     "crosstalk": "auto",
     "bandwidth": "auto",
     "time_base": 1e-4,
+    "resonance": 0.10,
+    "damping_ratio": 0.5,
+    "discharge": 0.10,
 }
+#: The sensor's dynamics among the systematics: modelled only where stated (or found).
+DYNAMICS = ("resonance", "damping_ratio", "discharge")
 #: Cross-talk bounds (module notes): an uncalibrated sensor's specification and the
 #: residual of a calibration matrix, as fractions of Fn (rectangular: u = bound/√3).
 CROSSTALK_SPEC, CROSSTALK_CALIBRATED = 0.03, 0.002
@@ -152,6 +184,11 @@ def resolve(systematics, data, tangential: str) -> tuple[Systematic, ...]:
         stated = float(nominal[param])
         if name in ("gain_t", "crosstalk") and tangential == "none":
             continue
+        if name in DYNAMICS:
+            found = _dynamics(name, given[name], data, origin)
+            if found is not None:
+                out.append(found)
+            continue
         spec = given[name]
         if isinstance(spec, str):
             if spec != "auto" or name not in ("crosstalk", "bandwidth"):
@@ -190,6 +227,34 @@ def _sigma(name, spec, stated, origin="given") -> tuple[float, str]:
     if absolute or name in _ABSOLUTE:
         return u, f"u = {u:.3g} ({origin})"
     return u * abs(stated), f"{u:.3g} of the stated value ({origin})"
+
+
+def _dynamics(name, spec, data, origin) -> Systematic | None:
+    """A stated mode's frequency or damping, or a stated discharge, with its tolerance; None
+    where none is stated (or no filter is modelled)."""
+    sensor = data.sensor
+    stated_mode = math.isfinite(sensor.resonance)
+    if data.fine is None or (name == "discharge" and not math.isfinite(sensor.discharge)):
+        return None
+    if name != "discharge" and not stated_mode:
+        return None
+    if isinstance(spec, str):
+        raise InputError(
+            f"systematics[{name!r}] = {spec!r}: give a standard uncertainty (a float, "
+            "relative, or (u, 'abs'))"
+        )
+    param = PARAM_OF[name]
+    value = float(getattr(sensor, param))
+    if name == "damping_ratio" and not sensor.damping_stated:
+        u = DAMPING_UNSTATED
+        return Systematic(name, param, value, u, f"not stated: {value:.3g} ± {u:.3g} (default)")
+    sigma, how = _sigma(name, spec, value, origin)
+    return None if sigma == 0.0 else Systematic(name, param, value, sigma, how)
+
+
+#: Standard uncertainty of the damping ratio taken for a stated mode whose damping is not
+#: stated [-] (pipeline.fit.sensor.DEFAULT_DAMPING = 0.05: ±100 %).
+DAMPING_UNSTATED = 0.05
 
 
 def _auto(name, data) -> Systematic | None:

@@ -31,10 +31,19 @@ cause                 found by                                           warning
                       (:func:`pipeline.simulate.curved.geometry_error`)
 ``second_impact``     the window saw a later pulse (a rebound strike)    MultipleImpactWarning
                                                                          (by the window)
+``sensor_dynamics``   the record shows a transducer mode, a discharge    SensorDynamicsWarning
+                      or a zero shift the sensor's description does not
+                      state, and the fit models it
+                      (:mod:`pipeline.fit.dynamics`): not a misfit, but
+                      said, with what was fitted
+``spikes``            isolated samples no force history can make (the   SpikeWarning
+                      window's :func:`pipeline.window.find_spikes`),
+                      left out of the fit (:attr:`ContactFit.excluded`)
 ====================  =================================================  =====================
 
-``ok`` is True when the misfit test passes and no cause but ``coloured_noise`` (modelled)
-or a ``crosstalk`` within its allowed bound stands.
+``ok`` is True when the misfit test passes and no cause but ``coloured_noise``,
+``sensor_dynamics``, ``spikes`` (modelled or left out) or a ``crosstalk`` within its
+allowed bound stands.
 
 **Model spread.** The laws the record cannot tell apart give the budget's ``model`` term
 (:attr:`pipeline.fit.result.FitResult.budget`): with Akaike weights
@@ -65,7 +74,9 @@ from ..errors import (
     GeometryWarning,
     ImpulseMismatchWarning,
     NormalLawWarning,
+    SensorDynamicsWarning,
     SensorFilterWarning,
+    SpikeWarning,
 )
 from .forward import _I
 from .pulse import shape_of
@@ -92,6 +103,8 @@ CAUSES = (
     "impulse_mismatch",
     "geometry",
     "second_impact",
+    "sensor_dynamics",
+    "spikes",
 )
 #: ΔAIC beyond which the better model is decisively better (Burnham & Anderson 2002).
 AIC_DECISIVE = 10.0
@@ -320,6 +333,21 @@ def diagnose(
             f"{len(others)} later pulse(s) after the contact (a rebound strike); the fit keeps "
             "to the first",
         )
+    # ---- the sensor's own dynamics, found in the record (modelled)
+    if fit.dynamics.get("what"):
+        add("sensor_dynamics", dynamics_text(fit), SensorDynamicsWarning)
+    # ---- spikes, left out
+    spikes = [sp for sp in getattr(fit.data.window, "spikes", ()) if sp.channel in fit.excluded]
+    if spikes:
+        listing = "; ".join(
+            f"{ch} samples {idx}" for ch, idx in fit.data.window.spike_indices().items()
+        )
+        add(
+            "spikes",
+            f"{len(spikes)} isolated sample(s) no force history can make ({listing}): "
+            "electrical spikes, left out of the fit (fit.excluded)",
+            SpikeWarning,
+        )
     failing = [c for c in causes if c in _FAILURES]
     if leak is not None and abs(leak[0]) > PULL_Z:
         failing.append("crosstalk")
@@ -339,6 +367,39 @@ def diagnose(
         "misfit": misfit,
         "impulse": mismatch,
     }
+
+
+def dynamics_text(fit) -> str:
+    """What a fit found of the sensor's own dynamics and fitted (:mod:`pipeline.fit.dynamics`),
+    in words."""
+    v, se = fit.values, fit.stderr
+    parts = []
+    if "resonance" in fit.vary and "resonance" not in fit.priors:
+        parts.append(
+            f"a mounted mode rings after the pulse: fitted f_n = {v['resonance']:.4g} ± "
+            f"{se['resonance']:.2g} Hz, ζ = {v['damping_ratio']:.3g} ± {se['damping_ratio']:.2g}"
+            f" (state it: sensor={{'resonance': {v['resonance']:.3g}, 'damping_ratio': "
+            f"{v['damping_ratio']:.2g}}})"
+        )
+    if "discharge" in fit.vary and "discharge" not in fit.priors:
+        parts.append(
+            f"the piezo discharges (the record undershoots after the pulse): fitted τ = "
+            f"{v['discharge']:.3g} ± {se['discharge']:.2g} s (state it: sensor={{'discharge': "
+            f"{v['discharge']:.3g}}})"
+        )
+    for name, value in zero_shifts(fit).items():
+        peak = fit.physics.get("F_max", math.nan)
+        parts.append(
+            f"{name}'s zero shifts by {value:+.4g} N ({value / peak:+.2%} of the peak) during "
+            f"the contact, half done {v['shift_at'] - v['t0']:.3g} s after the onset over "
+            f"{v['shift_width']:.2g} s: fitted"
+        )
+    return "; ".join(parts) + " — modelled, the parameters hold"
+
+
+def zero_shifts(fit) -> dict:
+    """{channel: fitted zero shift [N]} of the channels whose zero shift the fit models."""
+    return {ch: fit.values[p] for ch, p in (("Fn", "shift_n"), ("Ft", "shift_t")) if p in fit.vary}
 
 
 def _better_order(fit, orders, refit_order, always=False):

@@ -1,0 +1,478 @@
+r"""The transducer's own dynamics and a shifted zero, where the record shows them.
+
+A piezo force transducer bolted under a target is a mass on a stiff spring, and its charge
+leaks away through the amplifier: in series with the low-pass, the record passes the mode
+:math:`\omega_n^2/(s^2 + 2\zeta\omega_n s + \omega_n^2)` and the discharge
+:math:`s/(s + 1/\tau)` (:mod:`pipeline.sensor_model`, docs/theory.md). A crystal loaded hard
+may also keep a charge: its zero *shifts* during the contact. Where the sensor's description
+states a mode or a discharge, the fit models it, its values known to their tolerances
+(:mod:`pipeline.fit.systematics`). Where it does not, the fit looks at its own residuals
+for what each leaves behind — cheaply, on the fit it has made, so a record that shows none
+of them costs little more than before:
+
+- **the mode rings after the pulse**: the residuals after the contact's end (whitened by
+  the noise model, so that correlated noise is not taken for a tone) are searched for a
+  damped sinusoid :math:`A e^{-\sigma t}\cos(\omega_d t + \varphi)` common to the force
+  channels: its frequency from the summed periodogram, then frequency and decay together
+  by maximising the χ² the sinusoid explains. The frequency gives :math:`\omega_d`, the
+  decay the logarithmic decrement :math:`\delta = 2\pi\sigma/\omega_d =
+  2\pi\zeta/\sqrt{1-\zeta^2}`, so :math:`\omega_n = \sqrt{\omega_d^2 + \sigma^2}`,
+  :math:`\zeta = \sigma/\omega_n`. It counts where the χ² it explains exceeds what the best
+  of all the segment's frequencies would explain in white noise with chance
+  :data:`FALSE_ALARM` (and its damping is a mode's, ζ ≤ :data:`ZETA_MAX`: a low-pass's own
+  poles ring with ζ ≥ 0.38 for the Butterworth orders ≤ 4);
+- **the discharge undershoots after it**, and a **shifted zero** stays off after it: each
+  is a known change of the model, computed by the forward model on a grid of trials —
+  the discharge's τ in contact times, the shift's course (the instant it is half done and
+  the time it takes, :func:`pipeline.fit.forward.zero_shift`) — whose linearised χ² gain,
+  with the fit's
+  parameters free to absorb what they can (the change projected off the Jacobian's
+  columns), is a score test; the set of them (discharge, a shift of Fn, of Ft) with the
+  largest gain less :data:`SCORE_PENALTY` per member is taken.
+
+What the screen finds is then fitted — the mode's frequency and damping, the
+discharge's time constant and the shift's size and course as free parameters, started where
+the screen found them — with the noise measured before the
+contact only (after it, the record carries the sensor's own response), and kept where it
+lowers the AIC by more than :data:`pipeline.fit.verdict.AIC_DECISIVE` against the fit
+without it, refitted on the same weights (:func:`pipeline.fit.contact.fit_model`). The
+verdict then names ``sensor_dynamics`` and says what was fitted.
+
+References
+----------
+R. A. Fisher, Proc. R. Soc. A 125:54 (1929), doi:10.1098/rspa.1929.0151 (the periodogram's
+largest ordinate under white noise).
+C. R. Rao, Proc. Camb. Phil. Soc. 44:50 (1948), doi:10.1017/S0305004100023987 (score tests).
+C. M. Harris, A. G. Piersol, *Harris' Shock and Vibration Handbook*, 5th ed., McGraw-Hill
+(2002), ch. 12 (piezoelectric transducers), ch. 2 (the logarithmic decrement).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy import optimize, special
+
+from .engine import _pseudo_inverse, gauss_newton_many
+from .forward import _I, SYSTEMATIC_PARAMS, Solution, weighted_residuals
+
+__all__ = [
+    "shift_spread",
+    "Findings",
+    "screen",
+    "bounds",
+    "FALSE_ALARM",
+    "ZETA_MAX",
+    "ZETA_BOUND",
+    "SCORE_PENALTY",
+]
+
+#: Chance that white noise alone passes the ringing screen (over every frequency tried).
+FALSE_ALARM = 1e-3
+#: The largest damping ratio taken for a mounted mode [-]: a bolted transducer rings
+#: lightly (ζ ≈ 0.01–0.1); the Butterworth low-pass's own poles have ζ ≥ 0.38 (order ≤ 4).
+ZETA_MAX = 0.25
+#: The χ² a discharge or a zero-shift column must explain to be tried (a score test at
+#: about 1e-4 each: χ²₁ = 15.1).
+SCORE_PENALTY = 15.0
+#: Trial discharge time constants, in contact times.
+_TAU_GRID = np.geomspace(1.0, 1000.0, 13)
+
+
+@dataclass(frozen=True)
+class Findings:
+    """What the screen found in a fit's residuals (module notes).
+
+    Attributes
+    ----------
+    mode : tuple or None — (f_n [Hz], ζ [-], χ² it explains, f_d [Hz], log decrement [-])
+    discharge : tuple or None — (τ [s], χ² it explains)
+    shift : dict — the zero shift's start values, {"shift_n" / "shift_t": size [N] of the
+        channels that shift, "shift_at": [s], "shift_width": [s]}; empty where none
+    scores : dict — the screen's numbers, for the notes
+    """
+
+    mode: tuple | None = None
+    discharge: tuple | None = None
+    shift: dict = field(default_factory=dict)
+    scores: dict = field(default_factory=dict)
+
+    def __bool__(self) -> bool:
+        return self.mode is not None or self.discharge is not None or bool(self.shift)
+
+
+def _projector(J):
+    """An orthonormal basis of the columns of J (n, p), rank-deficient directions dropped."""
+    if J.shape[1] == 0:
+        return np.zeros((J.shape[0], 0))
+    s = np.sqrt(np.sum(J * J, axis=0))
+    s = np.where(s > 0, s, 1.0)
+    U, w, _ = np.linalg.svd(J / s, full_matrices=False)
+    return U[:, w > w.max() * 1e-10] if w.size else U[:, :0]
+
+
+def screen(problem, theta, data, model, *, mode=True, discharge=True, shift=True) -> Findings:
+    """Screen a one-record fit's residuals for an unstated mode, discharge or zero shift.
+
+    Parameters
+    ----------
+    problem : pipeline.fit.engine.Problem — the fit's problem, ``theta`` its optimum
+    data : pipeline.fit.forward.RecordData; model : pipeline.fit.forward.ForwardModel
+    mode, discharge, shift : bool — what to look for
+
+    Returns
+    -------
+    Findings
+    """
+    if not (mode or discharge or shift) or data.fine is None or data.window.kind != "sensor":
+        return Findings()
+    n = problem.n_data
+    r = problem.residual(theta)[:n]
+    Q = _projector(problem.jacobian(theta)[:n])
+    P = problem.design.local(np.asarray(theta)[None, :])[0]
+    sol = problem.solution(theta)[0]
+    t_end = float(P[0, _I["t0"]]) + float(
+        sol.pulse.tau_c[sol.index[0]] * model.scales(data, P)[1][0]
+    )
+    scores = {}
+    found_mode = _mode(r, data, t_end, scores) if mode else None
+    columns = {}
+    if discharge:
+        tau, col = _discharge_column(r, data, model, P, sol, Q, t_end)
+        if col is not None:
+            columns["discharge"] = (tau, col)
+    if shift:
+        columns.update(_shift_columns(r, data, model, P, sol, Q, t_end))
+    steps = _steps(data, float(P[0, _I["t0"]]), t_end)
+    scores.update({f"{k}_step_chi2": v for k, v in steps.items()})
+    best, gain = _best_subset(r, columns, scores, steps)
+    found_tau, found_shift = None, {}
+    for k in best:
+        what, col = columns[k]
+        a = float(r @ col) / float(col @ col)
+        if k == "discharge":
+            found_tau = (what / a, gain)
+        else:  # a shift: (its parameter, the instant it is half done, its width)
+            found_shift[what[0]] = a
+            found_shift.setdefault("shift_at", what[1])
+            found_shift.setdefault("shift_width", what[2])
+    return Findings(found_mode, found_tau, found_shift, scores)
+
+
+#: The χ² a step of the baseline must explain on the samples outside the contact for a zero
+#: shift or a discharge to be tried (χ²₁ at 0.3 %).
+STEP_EVIDENCE = 9.0
+
+
+def _steps(data, t0, t_end) -> dict:
+    """{channel: χ² a step between the samples before the contact and those after it (and
+    the low-pass's settling, ten time constants of its slowest pole) explains beyond a
+    line}: the evidence of a shifted zero or a discharge that no misfit of the contact's
+    model can give, for it leaves the contact out (each side whitened by the channel's
+    noise model)."""
+    settle = t_end + 10.0 * data.sensor.ring_time(resonance=math.inf, discharge=math.inf) / 37.0
+    out = {}
+    for c in data.channels:
+        sides = [c.t < t0, c.t > settle]
+        if min(np.count_nonzero(m) for m in sides) < 8:
+            continue
+        rows, y = [], []
+        mid, span = c.t.mean(), max(np.ptp(c.t), 1e-300)
+        for k, m in enumerate(sides):
+            A = np.column_stack([np.ones(m.sum()), (c.t[m] - mid) / span, np.full(m.sum(), k)])
+            rows.append(c.noise.whiten(A.T / np.mean(c.sigma)).T)
+            y.append(c.noise.whiten(c.y[m] / np.mean(c.sigma)))
+        A, y = np.concatenate(rows), np.concatenate(y)
+        full = np.linalg.lstsq(A, y, rcond=None)[1]
+        line = np.linalg.lstsq(A[:, :2], y, rcond=None)[1]
+        if full.size and line.size:
+            out[c.name] = float(line[0] - full[0])
+    return out
+
+
+def _best_subset(r, columns, scores, steps):
+    """The subset of ``columns`` whose joint χ² gain less :data:`SCORE_PENALTY` per member is
+    largest (and positive), each member's own gain above the penalty and the record's
+    baseline stepping across the contact (``steps`` above :data:`STEP_EVIDENCE` on the
+    member's channel, Fn for the discharge: what no misfit of the contact's model can
+    give); the discharge only with a positive amplitude (an undershoot, not an
+    overshoot)."""
+    names = []
+    for k, (_, col) in columns.items():
+        norm = float(col @ col)
+        if not norm > 0:
+            continue
+        a = float(r @ col) / norm
+        g = a * a * norm
+        scores[f"{k}_chi2"] = g
+        step = steps.get("Fn" if k == "discharge" else k, 0.0)
+        if g > SCORE_PENALTY and step > STEP_EVIDENCE and (k != "discharge" or a > 0):
+            names.append(k)
+    best, best_value, best_gain = (), 0.0, 0.0
+    for mask in range(1, 2 ** len(names)):
+        subset = tuple(k for i, k in enumerate(names) if mask >> i & 1)
+        A = np.column_stack([columns[k][1] for k in subset])
+        coef = np.linalg.lstsq(A, r, rcond=None)[0]
+        g = float(r @ (A @ coef))
+        if g - SCORE_PENALTY * len(subset) > best_value:
+            best, best_value, best_gain = subset, g - SCORE_PENALTY * len(subset), g
+    return best, best_gain
+
+
+#: Trial courses of a zero shift: the instant it is half done and the time it takes, in
+#: contact times from the onset.
+_SHIFT_AT = np.linspace(0.05, 0.95, 19)
+_SHIFT_WIDTH = (0.02, 0.08, 0.2, 0.4, 0.7)
+
+
+def _changes(data, model, P, sol, Q, which, values):
+    """The model's change, whitened and projected off the Jacobian's columns, when the
+    parameters ``which`` take each row of ``values`` (K, len(which)): (K, n)."""
+    K = values.shape[0]
+    Pk = np.repeat(P, K + 1, axis=0)
+    for j, name in enumerate(which):
+        Pk[1:, _I[name]] = values[:, j]
+    sk = Solution(sol.pulse, sol.tang, np.repeat(sol.index[:1], K + 1))
+    pred = model.predict(data, Pk, sk)
+    rows = -weighted_residuals(data, [m[1:] - m[:1] for m in pred], derivative=True)
+    return rows - (rows @ Q) @ Q.T
+
+
+def _shift_columns(r, data, model, P, sol, Q, t_end) -> dict:
+    """{channel: ((its parameter, at [s], width [s]), its column)} — each channel's trial
+    zero shift of 1 N whose course explains most (module notes)."""
+    t0 = float(P[0, _I["t0"]])
+    dur = t_end - t0
+    grid = np.array([(t0 + a * dur, w * dur) for a in _SHIFT_AT for w in _SHIFT_WIDTH])
+    out = {}
+    for c in data.channels:
+        param = "shift_n" if c.name == "Fn" else "shift_t"
+        values = np.column_stack([np.ones(len(grid)), grid])
+        rows = _changes(data, model, P, sol, Q, (param, "shift_at", "shift_width"), values)
+        norm = np.einsum("kn,kn->k", rows, rows)
+        gain = np.where(norm > 0, (rows @ r) ** 2 / np.where(norm > 0, norm, 1.0), -np.inf)
+        k = int(np.argmax(gain))
+        out[c.name] = ((param, float(grid[k, 0]), float(grid[k, 1])), rows[k])
+    return out
+
+
+def _discharge_column(r, data, model, P, sol, Q, t_end):
+    """(the trial τ [s] whose change of the model explains most, its whitened change
+    projected off the Jacobian) — a discharge shows as an undershoot after the pulse."""
+    dur = max(t_end - float(P[0, _I["t0"]]), 1e-300)
+    taus = _TAU_GRID * dur
+    rows = _changes(data, model, P, sol, Q, ("discharge",), taus[:, None])
+    norm = np.einsum("kn,kn->k", rows, rows)
+    ok = norm > 0
+    if not np.any(ok):
+        return None, None
+    gain = np.where(ok, (rows @ r) ** 2 / np.where(ok, norm, 1.0), -np.inf)
+    k = int(np.argmax(gain))
+    return float(taus[k]), rows[k]
+
+
+def _segments(r, data, t_end):
+    """Each channel's residual rows after the contact's end (whitened), and the step [s]."""
+    out, start = [], 0
+    for c in data.channels:
+        seg = r[start : start + c.t.size]
+        start += c.t.size
+        where = np.flatnonzero(c.t > t_end)
+        if c.index is not None and where.size:  # a sample left out: keep to the stretch before it
+            gap = np.flatnonzero(np.diff(c.index[where]) > 1)
+            where = where[: gap[0] + 1] if gap.size else where
+        out.append(seg[where])
+    m = min(s.size for s in out)
+    step = (
+        float(data.fine[data.oversample] - data.fine[0])
+        if data.fine.size > data.oversample
+        else 1.0
+    )
+    return [s[:m] for s in out], step
+
+
+def _trend(t):
+    """An orthonormal basis of the quadratics on ``t``: the slow part of a segment (an
+    undershoot recovering, a zero shift's step) that no tone is."""
+    return np.linalg.qr(np.column_stack([np.ones_like(t), t / t[-1], (t / t[-1]) ** 2]))[0]
+
+
+def _explained(segs, t, w, s, trend):
+    """χ² the damped sinusoid e^{−s t}·(a cos ωt + b sin ωt), one (a, b) per channel,
+    explains in unit-variance segments ``segs`` beyond their quadratic ``trend``."""
+    env = np.exp(-s * t)
+    B = np.column_stack([env * np.cos(w * t), env * np.sin(w * t)])
+    B = B - trend @ (trend.T @ B)
+    Qb = np.linalg.qr(B)[0]
+    return float(sum(np.sum((Qb.T @ x) ** 2) for x in segs))
+
+
+def ringing_threshold(n: int, channels: int, false_alarm: float = FALSE_ALARM) -> float:
+    """The χ² a damped sinusoid must explain in ``channels`` white unit-variance segments of
+    ``n`` samples to be a tone: the best of ~2n trial frequencies and decays (n/2
+    independent frequencies, a few decays each) passes by chance with ``false_alarm``."""
+    trials = max(2 * n, 1)
+    return float(special.chdtri(2 * channels, false_alarm / trials))
+
+
+def _mode(r, data, t_end, scores):
+    """(f_n, ζ, χ², f_d, δ) of the ring after the pulse, or None (module notes)."""
+    segs, dt = _segments(r, data, t_end)
+    n = segs[0].size if segs else 0
+    dur = data.window.duration
+    if n < 16 or not dur > 0:
+        return None
+    t = np.arange(n) * dt
+    trend = _trend(t)
+    segs = [x - trend @ (trend.T @ x) for x in segs]
+    pad = 8 * int(2 ** math.ceil(math.log2(n)))
+    f = np.fft.rfftfreq(pad, dt)
+    power = sum(np.abs(np.fft.rfft(x, pad)) ** 2 for x in segs)
+    f_lo = max(0.5 / dur, 2.0 / (n * dt))  # two cycles seen, at least half the contact's rate
+    band = (f >= f_lo) & (f <= 0.45 / dt)
+    if not np.any(band):
+        return None
+    f0 = float(f[band][np.argmax(power[band])])
+    w0 = 2 * math.pi * f0
+    starts = [w0 * z for z in (0.005, 0.02, 0.06, 0.2)]
+    best = max(starts, key=lambda s: _explained(segs, t, w0, s, trend))
+    lo, hi = 2 * math.pi * f_lo / w0, math.pi / dt / w0
+
+    def cost(x):
+        w, s = min(max(x[0], lo), hi) * w0, w0 * math.exp(min(x[1], 1.0))
+        return -_explained(segs, t, w, s, trend)
+
+    res = optimize.minimize(
+        cost,
+        [1.0, math.log(best / w0)],
+        method="Nelder-Mead",
+        options={"xatol": 1e-5, "fatol": 1e-6},
+    )
+    w, s = min(max(res.x[0], lo), hi) * w0, w0 * math.exp(min(res.x[1], 1.0))
+    chi2 = -float(res.fun)
+    wn = math.hypot(w, s)
+    zeta = s / wn
+    threshold = ringing_threshold(n, len(segs))
+    scores.update(
+        ring_chi2=chi2, ring_threshold=threshold, ring_f_d=w / (2 * math.pi), ring_zeta=zeta
+    )
+    if chi2 <= threshold or zeta > ZETA_MAX or not w > 0:
+        return None
+    delta = 2 * math.pi * s / w
+    return (wn / (2 * math.pi), zeta, chi2, w / (2 * math.pi), delta)
+
+
+#: The damping ratio a mode the record does not show is bounded at [-]: the upper end of a
+#: bolted transducer's (a mode that rings longer shows sooner).
+ZETA_BOUND = 0.1
+#: Trial modes of the bound, in contact frequencies (f_n·t_c), and trial discharges, in
+#: contact times.
+_FN_BOUND = np.geomspace(1.0, 100.0, 25)
+_TAU_BOUND = np.geomspace(1.0, 1e4, 21)
+#: Δχ² beyond which the record excludes a trial mode or discharge (one-sided 95 %: z²).
+_EXCLUDED = 2.706
+
+
+def bounds(problem, theta, data, model, *, mode=True, discharge=True) -> dict:
+    """What an unstated mode or discharge the record does not show could do to the fitted
+    parameters: {"resonance" / "discharge": {"limit": the lowest f_n [Hz] / shortest τ [s]
+    the record allows, "effect": {parameter: largest shift}}} (module notes).
+
+    Each trial (modes at ζ = :data:`ZETA_BOUND` from one to a hundred contact frequencies,
+    discharges from one to 10⁴ contact times) changes the model by Δ; the fit, refitted,
+    absorbs part of it — linearised, its parameters move by δθ = K·Δ (K the fit's
+    estimator, priors included) and the χ² changes by |r − Δ⊥|² − |r|² (Δ⊥ the part no
+    parameter absorbs, r the residuals). The trials that raise χ² by more than
+    :data:`_EXCLUDED` (one-sided 95 %) the record excludes; over the others, the largest
+    |δθ| of each parameter is the effect whose bound enters the budget.
+    """
+    if not (mode or discharge) or data.fine is None or data.window.kind != "sensor":
+        return {}
+    n = problem.n_data
+    r = problem.residual(theta)[:n]
+    J = problem.jacobian(theta)
+    K = _pseudo_inverse(J)[:, :n]
+    Q = _projector(J[:n])
+    P = problem.design.local(np.asarray(theta)[None, :])[0]
+    sol = problem.solution(theta)[0]
+    dur = float(sol.pulse.tau_c[sol.index[0]] * model.scales(data, P)[1][0])
+    trials = []
+    if mode:
+        trials.append(("resonance", _FN_BOUND / dur, {"damping_ratio": ZETA_BOUND}))
+    if discharge:
+        trials.append(("discharge", _TAU_BOUND * dur, {}))
+    out = {}
+    names = [problem.design.names[i] for i in problem.vary]
+    for name, values, fixed in trials:
+        Pk = np.repeat(P, values.size + 1, axis=0)
+        Pk[1:, _I[name]] = values
+        for k, v in fixed.items():
+            Pk[1:, _I[k]] = v
+        sk = Solution(sol.pulse, sol.tang, np.repeat(sol.index[:1], values.size + 1))
+        pred = model.predict(data, Pk, sk)
+        rows = -weighted_residuals(data, [m[1:] - m[:1] for m in pred], derivative=True)
+        perp = rows - (rows @ Q) @ Q.T
+        dchi2 = np.einsum("kn,kn->k", perp, perp) - 2.0 * perp @ r
+        allowed = dchi2 <= _EXCLUDED
+        if not np.any(allowed):
+            continue
+        shift = np.abs(rows[allowed] @ K.T)  # (allowed trials, varied)
+        limit = float(values[allowed].min())
+        out[name] = {
+            "limit": limit,
+            "effect": {nm: float(shift[:, j].max()) for j, nm in enumerate(names)},
+        }
+    return out
+
+
+#: The zero shift's courses its spread is taken over: the instant it is half done and the
+#: time it takes, in contact times from the onset.
+_SPREAD_AT = np.linspace(0.0, 1.0, 11)
+_SPREAD_WIDTH = (0.05, 0.25, 0.6)
+
+
+def shift_spread(fit) -> dict:
+    """{parameter: {"zero_shift": σ}}: how far the contact's parameters move over the courses
+    of the zero shift the record allows (its size refitted with them at each), weighed like
+    models (Akaike weights on χ²): the course of a shift is what the pulse's own shape can
+    least tell from it, and its χ² need not have one minimum."""
+    p = fit.problem
+    names = fit.names
+    i_at, i_w = names.index("shift_at"), names.index("shift_width")
+    dur = float(fit.physics["t_c"])
+    t0 = float(fit.values["t0"])
+    grid = np.array([(t0 + a * dur, w * dur) for a in _SPREAD_AT for w in _SPREAD_WIDTH])
+    Theta = np.repeat(fit.theta[None, :], len(grid), axis=0)
+    Theta[:, i_at], Theta[:, i_w] = grid[:, 0], grid[:, 1]
+    freeze = np.zeros(len(names), dtype=bool)
+    freeze[[i_at, i_w]] = True
+    lower, upper = fit_bounds(fit)
+    with np.errstate(all="ignore"):
+        Theta, chi2 = gauss_newton_many(p, Theta, lower=lower, upper=upper, freeze=freeze, iters=6)
+    ok = np.isfinite(chi2)
+    if not np.any(ok):
+        return {}
+    Theta, chi2 = Theta[ok], chi2[ok]
+    best = min(float(chi2.min()), float(fit.chi2))
+    w = np.exp(-0.5 * (chi2 - best))
+    w = w / (w.sum() + math.exp(-0.5 * (float(fit.chi2) - best)))
+    out = {}
+    for j, n in enumerate(names):
+        if not fit.varied[j] or n in SYSTEMATIC_PARAMS:
+            continue
+        out[n] = {"zero_shift": float(math.sqrt(np.sum(w * (Theta[:, j] - fit.theta[j]) ** 2)))}
+    return out
+
+
+def fit_bounds(fit):
+    """(lower, upper) of every parameter of a one-record fit, as its minimiser had them."""
+    from .procedure import _bounds, base_name
+
+    data = fit.data
+    lo, hi = np.full(len(fit.names), -np.inf), np.full(len(fit.names), np.inf)
+    for i, n in enumerate(fit.names):
+        if fit.varied[i]:
+            lo[i], hi[i] = _bounds(base_name(n), float(fit.theta[i]), data)
+    return lo, hi
