@@ -344,6 +344,7 @@ class Impact:
     w_end : float — the centre's speed across the line of centres at separation [m/s]
     omega_end : float — spin at separation [rad/s] (> 0 in the sense Ft > 0 drives)
     law : str; law_param : float — the normal law and its dimensionless parameter
+    spin : float — the spin before the impact [rad/s] (:func:`impact`)
     """
 
     t_contact: float
@@ -358,6 +359,7 @@ class Impact:
     law: str
     law_param: float
     _forces: Callable = field(repr=False)
+    spin: float = 0.0
 
     def forces(self, t) -> tuple[np.ndarray, np.ndarray]:
         """(Fn, Ft) [N] at instants ``t`` [s] after first contact, on the first contact's
@@ -380,6 +382,7 @@ def impact(
     turning_normal: bool = False,
     kappa: float = KAPPA,
     law_param: float | None = None,
+    spin: float = 0.0,
 ) -> Impact:
     """Integrate one oblique impact of a ball on a fixed target (module notes).
 
@@ -398,6 +401,8 @@ def impact(
     kappa : float — I/(mR²) [-]
     law_param : float, optional — the law's parameter itself (``e`` then unused), e.g.
         Thornton's r = v_y/v0
+    spin : float — the ball's spin before the impact [rad/s], positive where it lowers the
+        contact point's slip (the sense Ft > 0 spins the ball up: slip v_t − ωR > 0)
 
     Returns
     -------
@@ -412,7 +417,8 @@ def impact(
     law = _Law(normal, calibrate(normal, e) if law_param is None else float(law_param))
     gk = 6.0 * G_eff / E_eff
     r_sum = (radius + target_radius) / d_star if turning_normal else math.inf
-    segments, y, tau_end = _integrate(law, mu, tangential, gk, kappa, math.tan(a), r_sum)
+    omega0 = -spin * radius / v0
+    segments, y, tau_end = _integrate(law, mu, tangential, gk, kappa, math.tan(a), r_sum, omega0)
     grid = np.linspace(0.0, tau_end, 4001)
     fn, ft, f_normal, x = _sample(segments, law, mu, gk, grid)
     if math.isfinite(r_sum):  # the percussions along the first axes, by quadrature
@@ -437,6 +443,7 @@ def impact(
         law=normal,
         law_param=law.p,
         _forces=forces,
+        spin=spin,
     )
 
 
@@ -480,7 +487,7 @@ def _contact_forces(law, mu, gk, mode, y):
     return fn, ft
 
 
-def _integrate(law, mu, tangential, gk, kappa, tan_a, r_sum):
+def _integrate(law, mu, tangential, gk, kappa, tan_a, r_sum, omega0=0.0):
     """The contact in the units δ*, t*, F*, m·v0 (module notes), segment by segment:
     (segments, final state, final τ).
 
@@ -557,11 +564,14 @@ def _integrate(law, mu, tangential, gk, kappa, tan_a, r_sum):
 
     # the first mode: does the spring's trial force start above the cap (Mindlin)?
     eps = 1e-6
-    if tangential == "coulomb" or mu * float(law.f(eps, 1.0)) < gk * math.sqrt(eps) * tan_a * eps:
+    slip0 = tan_a + omega0
+    if slip0 <= 0:
+        raise ValueError("the spin must leave the contact point slipping forward (slip > 0)")
+    if tangential == "coulomb" or mu * float(law.f(eps, 1.0)) < gk * math.sqrt(eps) * slip0 * eps:
         mode = ("slide", 1.0)
     else:
         mode = ("stick",)
-    y = np.array([0.0, 1.0, 0.0, tan_a, 0.0, 0.0, 0.0, 0.0])
+    y = np.array([0.0, 1.0, 0.0, tan_a, omega0, 0.0, 0.0, 0.0])
     tau, segments = 0.0, []
     stalled, riding = 0, False  # switches at one instant in a row; sliding the cap out
     for _ in range(400):
@@ -627,6 +637,15 @@ class Rig:
     bits : int — ADC resolution; full_scale : float — its span [N] (±full_scale/2)
     pre, post : float — recorded time before the onset and after the contact's end [s]
     internal_rate : float — lowest rate of the fine grid the filter runs at [Hz]
+    resonance : float — the mounted transducer's mode [Hz] (inf: none), in series with the
+        low-pass; damping_ratio : float — its ζ [-]
+    discharge : float — the piezo's discharge time constant [s] (inf: none), a first-order
+        high-pass in series
+    zero_shift : float — a step of the Fn channel's zero during the contact [N] (a charge
+        the crystal keeps: it passes the amplifier's chain); shift_ramp : (a, b) — the step
+        rises linearly from a to b, fractions of the contact time after the onset
+    spikes : tuple of (axis, time after the onset [s], value [N]) — single samples added
+        at the converter's input (electrical spikes; :func:`spike_samples`)
     """
 
     rate: float
@@ -643,6 +662,12 @@ class Rig:
     pre: float = 100e-6
     post: float = 200e-6
     internal_rate: float = 50e6
+    resonance: float = math.inf
+    damping_ratio: float = 0.05
+    discharge: float = math.inf
+    zero_shift: float = 0.0
+    shift_ramp: tuple = (0.3, 0.7)
+    spikes: tuple = ()
 
 
 def coloured_noise(n: int, kind: str, rng, phi: float = 0.9) -> np.ndarray:
@@ -678,16 +703,51 @@ def measure(imp: Impact, rig: Rig, rng, *, phase: float) -> tuple:
     t_fine = np.arange((n - 1) * over + 1) * dt
     fn, ft = imp.forces(t_fine - t0)
     true = np.stack([fn, ft, np.zeros_like(fn)])
-    sos = signal.butter(rig.filter_order, rig.bandwidth, fs=1.0 / dt, output="sos")
-    y = signal.sosfilt(sos, rig.mixing @ true, axis=-1)[:, ::over]
+    charge = rig.mixing @ true
+    if rig.zero_shift:
+        a, b = (t0 + f * imp.t_contact for f in rig.shift_ramp)
+        ramp = np.clip((t_fine - a) / max(b - a, dt), 0.0, 1.0)
+        charge[0] += rig.zero_shift * ramp
+    sos = [signal.butter(rig.filter_order, rig.bandwidth, fs=1.0 / dt, output="sos")]
+    sos += _dynamics_sos(rig, dt)
+    y = signal.sosfilt(np.concatenate(sos), charge, axis=-1)[:, ::over]
     t = np.arange(n) / rig.rate
     y = y + np.asarray(rig.offset)[:, None] + np.asarray(rig.drift)[:, None] * t
     y = y + rig.noise * np.stack([coloured_noise(n, rig.noise_kind, rng, rig.phi) for _ in y])
+    for (axis, _, value), k in zip(rig.spikes, spike_samples(rig, t0, n), strict=True):
+        y[axis, k] += value
     if rig.bits:
         q = rig.full_scale / 2.0**rig.bits
         lo, hi = -(2.0 ** (rig.bits - 1)), 2.0 ** (rig.bits - 1) - 1
         y = np.clip(np.round(y / q), lo, hi) * q
     return t, dict(zip(("Fn", "Ft", "Fy"), y, strict=True)), t0
+
+
+def spike_samples(rig: Rig, t0: float, n: int) -> list:
+    """The sample indices of ``rig``'s spikes on a record of ``n`` samples whose contact
+    starts at ``t0`` [s] (the first sample at t = 0)."""
+    return [min(max(int(round((t0 + tau) * rig.rate)), 0), n - 1) for _, tau, _ in rig.spikes]
+
+
+def _dynamics_sos(rig: Rig, dt: float) -> list:
+    """The transducer's mode and the discharge as digital sections at step ``dt`` [s]: the
+    analogue ωn²/(s² + 2ζωn s + ωn²) and s/(s + 1/τ) by the bilinear transform prewarped at
+    ωn and 1/τ (:func:`scipy.signal.bilinear_zpk`; at the ≥ 50 MHz fine rate the warping
+    elsewhere is below 1e-3)."""
+    out = []
+    fs = 1.0 / dt
+    if math.isfinite(rig.resonance):
+        wn = 2.0 * math.pi * rig.resonance
+        warped = 2.0 * fs * math.tan(wn / (2.0 * fs))
+        zeta = rig.damping_ratio
+        p = warped * (-zeta + np.array([1j, -1j]) * math.sqrt(1.0 - zeta * zeta))
+        z, pd, k = signal.bilinear_zpk([], p, warped * warped, fs)
+        out.append(signal.zpk2sos(z, pd, k))
+    if math.isfinite(rig.discharge):
+        w = 2.0 * fs * math.tan(1.0 / (2.0 * fs * rig.discharge))
+        z, pd, k = signal.bilinear_zpk([0.0], [-w], 1.0, fs)
+        out.append(signal.zpk2sos(z, pd, k))
+    return out
 
 
 # ============================================================== the cases
@@ -853,6 +913,7 @@ def _experiment(
     systematics=None,
     misspecified="nothing",
     law_param=None,
+    spin=None,
 ):
     """Draw, integrate and measure one experiment; return (record, truth, told).
 
@@ -872,6 +933,8 @@ def _experiment(
     misspecified : str — what is wrong, in words
     law_param : float, optional — the true law's parameter (Thornton's r = v_y/v0) in
         place of the drawn e; ``truth["e"]`` is then the law's integrated rebound
+    spin : callable (rng, experiment) → float, optional — the ball's spin before the impact
+        [rad/s] (:func:`impact`; the lab tells none)
 
     Returns
     -------
@@ -883,8 +946,10 @@ def _experiment(
         contact's axes), ``theta_end`` [rad], the sensor's ``rate`` [Hz], ``bandwidth``
         [Hz], ``filter_order``, ``mixing`` (3×3), ``noise`` [N], ``noise_kind``,
         ``noise_of_peak`` [-], the scene's ``ball``, ``target``, ``radius``,
-        ``target_radius`` [m], ``angle_deg`` [deg], ``misspecified`` (words) and
-        ``direction`` (±1, the sign of a misspecification drawn with either sign)
+        ``target_radius`` [m], ``angle_deg`` [deg], ``misspecified`` (words),
+        ``direction`` (±1, the sign of a misspecification drawn with either sign), the
+        sensor's ``resonance`` [Hz], ``damping_ratio``, ``discharge`` [s], ``zero_shift``
+        [N], ``spikes`` ([channel, sample index] pairs) and the ball's ``spin`` [rad/s]
     told : dict — ``scene`` (:class:`pipeline.Scene`, μ and e None, the told speed),
         ``sensor`` (``bandwidth`` [Hz], ``filter_order``, ``bits``, ``full_scale`` [N],
         ``crosstalk_matrix`` where stated) and ``systematics``
@@ -902,6 +967,7 @@ def _experiment(
         x["mu"],
         x["e"],
         normal=normal,
+        spin=spin(rng, x) if spin else 0.0,
         turning_normal=math.isfinite(x["target_radius"])
         if turning_normal is None
         else turning_normal,
@@ -963,9 +1029,26 @@ def _experiment(
         "angle_deg": x["angle_deg"],
         "misspecified": misspecified,
         "direction": 1.0,
+        **_rig_truth(r, t0, t.size, spin=imp.spin),
     }
     told = {"scene": told_scene, "sensor": sensor, "systematics": systematics}
     return record, truth, told
+
+
+def _rig_truth(r: Rig, t0: float, n: int, spin: float) -> dict:
+    """The rig's dynamics and artefacts and the ball's spin, for ``truth``."""
+    axes = ("Fn", "Ft", "Fy")
+    return {
+        "resonance": r.resonance,
+        "damping_ratio": r.damping_ratio,
+        "discharge": r.discharge,
+        "zero_shift": r.zero_shift,
+        "shift_ramp": list(r.shift_ramp),
+        "spikes": [
+            [axes[a], k] for (a, _, _), k in zip(r.spikes, spike_samples(r, t0, n), strict=True)
+        ],
+        "spin": spin,
+    }
 
 
 def _directed(out, sign):
@@ -1186,6 +1269,139 @@ def plastic_deep(seed: int):
     return _plastic("plastic_deep", seed)
 
 
+# ----------------------------------------------- a real rig's dynamics and artefacts
+def _mode(case, seed, f_tc, *, stated=False):
+    """A mounted transducer mode at f_n·t_c in ``f_tc`` (a range), ζ 0.02–0.1, in series
+    with the low-pass; told to the fitter (with a drawn 10 % and 50 % error, the default
+    tolerances) or not."""
+    told_rig, err = None, _rng(f"{case}:mode_told", seed).standard_normal(2)
+    drawn = {}
+
+    def rig(rng, x, imp):
+        drawn["resonance"] = _loguniform(rng, *f_tc) / imp.t_contact
+        drawn["damping_ratio"] = _loguniform(rng, 0.02, 0.1)
+        # the lab sets the range for the signal it sees, which the mode overshoots
+        return dict(drawn, full_scale=_nice_ceil(5.0 * imp.F_max))
+
+    out = _experiment(
+        case,
+        seed,
+        rig=rig,
+        misspecified=f"a mounted mode at f_n·t_c = {f_tc[0]:g}–{f_tc[1]:g}"
+        + (", stated" if stated else ", not stated"),
+    )
+    if stated:
+        told_rig = {
+            "resonance": drawn["resonance"] * (1.0 + 0.10 * err[0]),
+            "damping_ratio": drawn["damping_ratio"] * math.exp(0.5 * err[1]),
+        }
+        out[2]["sensor"].update(told_rig)
+    return out
+
+
+def resonance_close(seed: int):
+    """(l) A mounted mode inside the pulse's band, f_n·t_c = 2–3, ζ 0.02–0.1, not told."""
+    return _mode("resonance_close", seed, (2.0, 3.0))
+
+
+def resonance_near(seed: int):
+    """(m) A mounted mode a few contact frequencies up, f_n·t_c = 4–8 (the issue's 150 kHz
+    under a 35 µs pulse is 5.3), ζ 0.02–0.1, not told."""
+    return _mode("resonance_near", seed, (4.0, 8.0))
+
+
+def resonance_far(seed: int):
+    """(n) A mounted mode far above the pulse, f_n·t_c = 10–20, ζ 0.02–0.1, not told."""
+    return _mode("resonance_far", seed, (10.0, 20.0))
+
+
+def resonance_stated(seed: int):
+    """(o) A mounted mode at f_n·t_c = 4–8, ζ 0.02–0.1, told to the fitter with a 10 %
+    error in f_n and a 50 % one in ζ (drawn: the default tolerances)."""
+    return _mode("resonance_stated", seed, (4.0, 8.0), stated=True)
+
+
+def discharge(seed: int):
+    """(p) The piezo's discharge, τ = 5–50 contact times (the issue's 0.2 ms under 35 µs
+    is 6), not told."""
+    return _experiment(
+        "discharge",
+        seed,
+        rig=lambda rng, x, imp: {"discharge": _loguniform(rng, 5.0, 50.0) * imp.t_contact},
+        misspecified="the piezo discharges, not told",
+    )
+
+
+def zero_shift(seed: int):
+    """(q) The Fn channel's zero steps by ±2 % of the peak during the contact, rising
+    linearly between two instants drawn inside it (a hard step when they meet)."""
+
+    def rig(rng, x, imp):
+        a, b = np.sort(rng.uniform(0.1, 0.9, 2))
+        return {
+            "zero_shift": 0.02 * imp.F_max * rng.choice((-1.0, 1.0)),
+            "shift_ramp": (float(a), float(b)),
+        }
+
+    out = _experiment("zero_shift", seed, rig=rig, misspecified="Fn's zero shifts by 2 % of peak")
+    return _directed(out, out[1]["zero_shift"])
+
+
+def spikes(seed: int):
+    """(r) Four single-sample spikes of ±20 % of the peak on Fn or Ft, two inside the
+    contact and two anywhere from a contact time before it to two after; isolated (eight
+    samples apart or more on one channel)."""
+
+    def rig(rng, x, imp):
+        tc, gap = imp.t_contact, 8.0 / x["rate"]
+        for _ in range(1000):
+            where = np.concatenate([rng.uniform(0.0, tc, 2), rng.uniform(-tc, 3 * tc, 2)])
+            axis = rng.integers(0, 2, 4)
+            sign = rng.choice((-1.0, 1.0), 4)
+            close = [
+                abs(where[i] - where[j]) < gap and axis[i] == axis[j]
+                for i in range(4)
+                for j in range(i)
+            ]
+            if not any(close):
+                break
+        return {
+            "spikes": tuple(
+                (int(a), float(w), float(0.2 * imp.F_max * g))
+                for a, w, g in zip(axis, where, sign, strict=True)
+            )
+        }
+
+    return _experiment("spikes", seed, rig=rig, misspecified="four spikes of ±20 % of the peak")
+
+
+def sensor_turned(seed: int):
+    """(s) The sensor turned 5–20° about its normal axis: Ft reads Ft·cos ψ and Fy
+    Ft·sin ψ (sign drawn), no matrix stated."""
+
+    def rig(rng, x, imp):
+        psi = math.radians(rng.uniform(5.0, 20.0)) * rng.choice((-1.0, 1.0))
+        c, s_ = math.cos(psi), math.sin(psi)
+        return {"mixing": np.array([[1.0, 0.0, 0.0], [0.0, c, -s_], [0.0, s_, c]])}
+
+    out = _experiment("sensor_turned", seed, rig=rig, misspecified="sensor turned about its normal")
+    return _directed(out, out[1]["mixing"][2][1])
+
+
+def spin_unknown(seed: int):
+    """(t) The ball arrives spinning (ωR = 20–60 % of the tangential speed, either sense:
+    the slip at first contact 0.4–1.6 × v·sin α); the lab tells none."""
+
+    def spin(rng, x):
+        vt = x["speed"] * math.sin(math.radians(x["angle_deg"]))
+        return float(rng.uniform(0.2, 0.6) * rng.choice((-1.0, 1.0)) * vt / x["radius"])
+
+    out = _experiment(
+        "spin_unknown", seed, draw={"curved": 0.0}, spin=spin, misspecified="unknown spin"
+    )
+    return _directed(out, out[1]["spin"])
+
+
 def _cases():
     spec = [
         (control, ()),
@@ -1203,6 +1419,15 @@ def _cases():
         (plastic_onset, ("normal_law",)),
         (plastic, ("normal_law",)),
         (plastic_deep, ("normal_law",)),
+        (resonance_close, ("sensor_dynamics",)),
+        (resonance_near, ("sensor_dynamics",)),
+        (resonance_far, ("sensor_dynamics",)),
+        (resonance_stated, ("sensor_dynamics",)),
+        (discharge, ("sensor_dynamics",)),
+        (zero_shift, ("sensor_dynamics",)),
+        (spikes, ("spikes",)),
+        (sensor_turned, ("crosstalk",)),
+        (spin_unknown, ()),
     ]
     return {
         fn.__name__: Case(fn.__name__, causes, " ".join(fn.__doc__.split("\n\n")[0].split()), fn)

@@ -264,7 +264,7 @@ def summarise(case: str, rows: list) -> dict:
             "bias_sigma_quartiles": np.percentile(z, [25, 75]).tolist() if z.size else [],
             "rel_error_median": float(np.median(rel)) if rel.size else math.nan,
         }
-        if right:
+        if case != "control":
             p["target_met"] = p["held_or_flagged_right"] >= TARGET
         else:
             lo, hi = CONTROL_COVERAGE

@@ -1,0 +1,287 @@
+"""A real rig's sensor: the mounted mode, the piezo's discharge, a shifted zero and spikes.
+
+Ground truth: closed forms of linear systems (the damped oscillator's impulse response —
+ringing at ω_d = ω_n√(1 − ζ²), logarithmic decrement 2πζ/√(1 − ζ²), unit area; the
+first-order high-pass's exponential decay and its exact inverse F = F_m + (1/τ)∫F_m, and the
+impulse deficit (T − t̄)/τ it leaves to first order; Harris & Piersol, *Shock and Vibration
+Handbook*, 5th ed. 2002, ch. 2 and 12), scipy's continuous-time simulation
+(:func:`scipy.signal.lsim`, exact for inputs linear between samples) as an independent path
+to the chain the fits model, and records made by the misspecification suite's generator
+(benchmarks/_misspec.py: its own impact integration and a bilinear sensor chain), whose
+truth the fits must hold.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+from _rig import GR_RIG
+from scipy import signal
+
+from benchmarks import _misspec as M
+from pipeline import InputError, Scene, analyse
+from pipeline.contact import hertz_impact, hertz_pulse
+from pipeline.errors import (
+    MultipleImpactWarning,
+    PipelineWarning,
+    SensorDynamicsWarning,
+    SpikeWarning,
+)
+from pipeline.fit import fit_contact
+from pipeline.fit.sensor import DEFAULT_DAMPING, sensor_spec
+from pipeline.record import make_record
+from pipeline.sensor_model import foh_filter, sensor_zpk, to_sensor
+from pipeline.window import find_contact, find_spikes
+
+
+# ---------------------------------------------------------------- the chain, closed forms
+def _impulse(n, dt):
+    """A unit-area triangle one step wide on each side of sample 1 (piecewise linear: the
+    hold is exact for it) — an impulse to the resolution of ``dt``."""
+    u = np.zeros(n)
+    u[1] = 1.0 / dt
+    return u
+
+
+def test_mode_rings_at_omega_d_with_its_logarithmic_decrement_and_keeps_the_area():
+    # damped oscillator ω_n²/(s² + 2ζω_n s + ω_n²): impulse response
+    # ω_n/√(1−ζ²)·e^{−ζω_n t}·sin(ω_d t) — zeros every π/ω_d, successive maxima in the
+    # ratio e^{δ}, δ = 2πζ/√(1−ζ²) (Harris & Piersol 2002, ch. 2), and H(0) = 1
+    fn, zeta, dt = 100e3, 0.05, 2e-9
+    wn = 2 * math.pi * fn
+    wd = wn * math.sqrt(1 - zeta**2)
+    y = foh_filter(*sensor_zpk(resonance=fn, damping_ratio=zeta), dt)(_impulse(80_000, dt))
+    t = np.arange(y.size) * dt - dt
+    i = np.flatnonzero(np.diff(np.signbit(y)))
+    crossings = t[i] - y[i] * dt / (y[i + 1] - y[i])  # linear between the samples
+    assert np.diff(crossings[1:9]) == pytest.approx(math.pi / wd, rel=1e-4)
+    peaks = [i for i in range(1, y.size - 1) if y[i - 1] < y[i] >= y[i + 1] and y[i] > 0]
+    ratios = np.log(y[peaks[:-1]] / y[peaks[1:]])
+    assert ratios[:6] == pytest.approx(2 * math.pi * zeta / math.sqrt(1 - zeta**2), rel=1e-4)
+    tail = foh_filter(*sensor_zpk(resonance=fn, damping_ratio=zeta), 1e-7)(_impulse(20_000, 1e-7))
+    assert np.sum(tail) * 1e-7 == pytest.approx(1.0, abs=1e-9)  # the percussion is kept
+
+
+def _series(blocks):
+    """State space of transfer functions (num, den) in series (well conditioned)."""
+    A, B, C, D = (np.atleast_2d(x) for x in signal.tf2ss(*blocks[0]))
+    for num, den in blocks[1:]:
+        A2, B2, C2, D2 = (np.atleast_2d(x) for x in signal.tf2ss(num, den))
+        n1, n2 = A.shape[0], A2.shape[0]
+        A = np.block([[A, np.zeros((n1, n2))], [B2 @ C, A2]])
+        B, C, D = np.vstack([B, B2 @ D]), np.hstack([D2 @ C, C2]), D2 @ D
+    return A, B, C, D
+
+
+def test_the_chain_equals_scipys_continuous_simulation():
+    # low-pass (2nd-order Butterworth, 200 kHz) · mode (150 kHz, ζ = 0.05) · discharge
+    # (τ = 0.2 ms), driven by a piecewise-linear input: scipy.signal.lsim integrates the
+    # analogue system exactly for such an input, by another route (matrix exponentials of
+    # the series state space)
+    wc, wn, zeta, tau = 2 * math.pi * 200e3, 2 * math.pi * 150e3, 0.05, 2e-4
+    blocks = [
+        ([wc * wc], [1, math.sqrt(2) * wc, wc * wc]),
+        ([wn * wn], [1, 2 * zeta * wn, wn * wn]),
+        ([1.0, 0.0], [1.0, 1.0 / tau]),
+    ]
+    dt = 0.25e-6
+    u = np.concatenate([[0.0], np.cumsum(np.random.default_rng(1).standard_normal(3999))])
+    t = np.arange(u.size) * dt
+    _, expected, _ = signal.lsim(_series(blocks), u, t, interp=True)
+    z, p, k = sensor_zpk(200e3, 2, 150e3, zeta, tau)
+    got = foh_filter(z, p, k, dt)(u)
+    assert np.max(np.abs(got - expected)) < 1e-9 * np.max(np.abs(expected))
+
+
+def test_discharge_decays_and_is_inverted_exactly():
+    # s/(s + 1/τ): a constant force decays as e^{−t/τ}; the measured F_m gives back the
+    # force by F = F_m + (1/τ)∫F_m; over [0, T] the measured integral falls short of the
+    # impulse by (T − t̄)/τ to first order (t̄ the pulse's centroid)
+    tau, dt = 1e-3, 1e-8
+    chain = foh_filter(*sensor_zpk(discharge=tau), dt)
+    t = np.arange(300_000) * dt
+    step = np.minimum(t / dt, 1.0)  # a force switched on over one step
+    assert chain(step)[1000::10_000] == pytest.approx(np.exp(-t[1000::10_000] / tau), rel=1e-4)
+    imp = hertz_impact(Scene(**GR_RIG, speed=0.6))
+    F = hertz_pulse(t - 10e-6, imp)["F"]
+    Fm = chain(F)
+    integral = np.concatenate([[0.0], np.cumsum(0.5 * (Fm[1:] + Fm[:-1])) * dt])
+    assert np.max(np.abs(Fm + integral / tau - F)) < 1e-6 * F.max()
+    P = np.sum(F) * dt
+    t_bar = np.sum(F * t) * dt / P
+    T = t[-1]
+    deficit = 1.0 - np.sum(Fm) * dt / P
+    assert deficit == pytest.approx((T - t_bar) / tau, rel=(T / tau) * 1.0)  # O((T/τ)²)
+
+
+def test_to_sensor_rings_after_the_pulse_and_keeps_the_percussion():
+    imp = hertz_impact(Scene(**GR_RIG, speed=0.6))
+    t = np.linspace(0.0, imp.t_c, 2001)
+    F = hertz_pulse(t, imp)["F"]
+    ideal = make_record(
+        t, {"Fn": F}, attrs={"source": "hertz", "format": "test", "kind": "simulated"}
+    )
+    fn, zeta = 40e3, 0.03
+    quiet = dict(noise=0.0, offset=0.0, drift=0.0, crosstalk=0.0, bits=None, full_scale=math.inf)
+    rec = to_sensor(ideal, rate=10e6, resonance=fn, damping_ratio=zeta, post_trigger=600e-6,
+                    phase=0.0, **quiet)  # fmt: skip
+    tt, y = rec["time"].values, rec["Fn"].values
+    assert np.trapezoid(y, tt) == pytest.approx(np.trapezoid(F, t), rel=1e-4)
+    after = tt > imp.t_c + 100e-6
+    crossings = tt[after][1:][np.diff(np.signbit(y[after])) != 0]
+    wd = 2 * math.pi * fn * math.sqrt(1 - zeta**2)
+    assert np.median(np.diff(crossings)) == pytest.approx(math.pi / wd, rel=2e-3)
+    assert rec.attrs["sensor_resonance"] == fn and rec.attrs["sensor_damping_ratio"] == zeta
+
+
+# ---------------------------------------------------------------- what the fits are told
+def test_sensor_spec_reads_the_mode_and_the_discharge():
+    blank = make_record(
+        np.arange(50) * 1e-6, {"Fn": np.zeros(50)}, attrs={"source": "x", "format": "t"}
+    )
+    spec = sensor_spec(blank, {"bandwidth": 2e5, "resonance": 1.5e5, "discharge": 0.2e-3})
+    assert (spec.resonance, spec.discharge, spec.damping_ratio) == (1.5e5, 0.2e-3, DEFAULT_DAMPING)
+    assert not spec.damping_stated and any("damping ratio is not stated" in n for n in spec.notes)
+    assert spec.ring_time() == pytest.approx(37.0 * 0.2e-3)  # the slowest pole: the discharge
+    with pytest.raises(InputError, match=r"damping_ratio = 1\.5 must lie in \(0, 1\)"):
+        sensor_spec(blank, {"resonance": 1e5, "damping_ratio": 1.5})
+    with pytest.raises(InputError, match=r"resonance = -1\.0 Hz must be positive"):
+        sensor_spec(blank, {"resonance": -1.0})
+    meta = make_record(
+        np.arange(50) * 1e-6,
+        {"Fn": np.zeros(50)},
+        attrs={"source": "x", "format": "t", "meta_resonance": "150 kHz",
+               "meta_damping ratio": "0.04", "meta_discharge": "2 ms"},
+    )  # fmt: skip
+    spec = sensor_spec(meta)
+    assert (spec.resonance, spec.damping_ratio, spec.discharge) == (150e3, 0.04, 2e-3)
+
+
+# ---------------------------------------------------------------- fits on another generator
+def _fit(case, seed, **kw):
+    rec, truth, told = M.CASES[case].make(seed)
+    kw.setdefault("systematics", told["systematics"])
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        fit = fit_contact(rec, told["scene"], sensor=told["sensor"], n_boot=0, **kw)
+    return fit, truth, [w.category for w in caught]
+
+
+def _holds(fit, truth, names=("E_eff", "e", "mu")):
+    ci = fit.ci()
+    return {n: ci[n][0] <= truth[n] <= ci[n][1] for n in names}
+
+
+def test_a_stated_mode_is_a_systematic_and_the_parameters_hold():
+    fit, truth, warned = _fit("resonance_stated", 1)
+    assert "resonance" in fit.priors and "resonance" in fit.budget["E_eff"]
+    assert "sensor_dynamics" not in fit.verdict["causes"]
+    assert all(_holds(fit, truth).values())
+
+
+def test_an_unstated_mode_is_found_in_its_ringing_and_fitted():
+    fit, truth, warned = _fit("resonance_near", 1)
+    assert "sensor_dynamics" in fit.verdict["causes"] and SensorDynamicsWarning in warned
+    assert fit.values["resonance"] == pytest.approx(truth["resonance"], rel=0.01)
+    assert fit.values["damping_ratio"] == pytest.approx(truth["damping_ratio"], rel=0.2)
+    assert "f_n = " in fit.verdict["messages"]["sensor_dynamics"]
+    assert all(_holds(fit, truth).values())
+
+
+def test_an_unstated_discharge_is_found_in_its_undershoot_and_fitted():
+    fit, truth, warned = _fit("discharge", 5)  # τ = 12 contact times
+    assert "sensor_dynamics" in fit.verdict["causes"] and SensorDynamicsWarning in warned
+    assert fit.values["discharge"] == pytest.approx(truth["discharge"], rel=0.05)
+    assert all(_holds(fit, truth).values())
+
+
+def test_a_zero_shift_is_fitted_where_the_record_shows_one():
+    fit, truth, warned = _fit("zero_shift", 3)
+    assert "sensor_dynamics" in fit.verdict["causes"]
+    assert fit.values["shift_n"] == pytest.approx(truth["zero_shift"], rel=0.1)
+    assert "zero shifts by" in fit.verdict["messages"]["sensor_dynamics"]
+    assert all(_holds(fit, truth).values())
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_a_record_without_them_grows_no_mode_and_bounds_it(seed):
+    fit, truth, warned = _fit("control", seed, systematics=None)
+    assert not {"sensor_dynamics", "spikes"} & set(fit.verdict["causes"])
+    assert not {"resonance", "discharge", "shift_n"} & set(fit.vary)
+    assert {"resonance", "discharge"} <= set(fit.budget["E_eff"])  # bounded, not fitted
+    assert fit.dynamics["bounds"]["resonance"] > 1.0 / truth["t_contact"]
+
+
+def test_inputs_taken_as_exact_look_for_nothing():
+    fit, truth, _ = _fit("discharge", 5, systematics={})
+    assert "discharge" not in fit.vary and not fit.dynamics
+
+
+# ---------------------------------------------------------------- spikes
+def test_find_spikes_gives_the_exact_samples_and_leaves_a_ring_alone():
+    rng = np.random.default_rng(3)
+    t = np.arange(3000) * 1e-6
+    # a half-sine pulse: its corners at the ends (a force the filter has not rounded) are
+    # no spikes
+    pulse = 1000 * np.sin(np.pi * (t - 1e-3) / 100e-6) * (t >= 1e-3) * (t <= 1.1e-3)
+    y = pulse + rng.normal(0, 2.0, t.size)
+    where = [500, 1020, 1055, 2400]  # two inside the pulse
+    y[where] += [200, -200, 200, -200]
+    idx, repaired = find_spikes(y)
+    assert idx.tolist() == where
+    assert repaired == pytest.approx((pulse + y - y)[where], abs=10.0)
+    ring = 300 * np.exp(-(t - 1.2e-3) / 200e-6) * np.sin(2 * np.pi * 370e3 * t) * (t > 1.2e-3)
+    assert find_spikes(pulse + ring + rng.normal(0, 2.0, t.size))[0].size == 0
+    assert all(find_spikes(np.random.default_rng(s).normal(0, 1, 5000))[0].size == 0
+               for s in range(10))  # fmt: skip
+
+
+def test_spikes_are_left_out_of_the_fit_by_their_indices_never_a_second_impact():
+    fit, truth, warned = _fit("spikes", 2)
+    expected = {}
+    for ch, i in truth["spikes"]:
+        expected.setdefault(ch, []).append(i)
+    assert {k: sorted(v) for k, v in fit.excluded.items()} == {
+        k: sorted(v) for k, v in expected.items()
+    }
+    assert "spikes" in fit.verdict["causes"] and "second_impact" not in fit.verdict["causes"]
+    assert SpikeWarning in warned and MultipleImpactWarning not in warned
+    assert all(_holds(fit, truth).values())
+
+
+def test_analyse_scores_the_repaired_channel_and_says_so():
+    scene = Scene(**GR_RIG, speed=0.6, angle_deg=30.0, mu=0.2, e=0.9)
+    from pipeline.simulate import impact
+
+    clean = to_sensor(impact(scene), seed=4)
+    fn = clean["Fn"].values.copy()
+    t = clean["time"].values
+    inside = np.flatnonzero((t > 20e-6) & (t < 80e-6))
+    where = [int(inside[10]), int(inside[60])]
+    fn[where] += [-300.0, 300.0]
+    spiked = clean.copy()
+    spiked["Fn"] = (clean["Fn"].dims, fn, clean["Fn"].attrs)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", PipelineWarning)
+        a_clean = analyse(clean, scene)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        a = analyse(spiked, scene)
+    spikes = [str(w.message) for w in caught if w.category is SpikeWarning]
+    assert len(spikes) == 1 and "2 isolated sample(s)" in spikes[0]
+    assert a.summary()["repaired"]["spikes"] == {"Fn": where}
+    assert "repaired: 2 isolated sample(s)" in a.describe()
+    assert a.split.e_poisson == pytest.approx(a_clean.split.e_poisson, abs=2e-3)
+    assert not a.window.other_pulses
+
+
+def test_a_ring_after_the_pulse_is_no_second_impact():
+    rec, truth, _ = M.CASES["resonance_close"].make(3)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        win = find_contact(rec)
+    assert not win.other_pulses and MultipleImpactWarning not in [w.category for w in caught]
+    assert win.t_start == pytest.approx(truth["t0"], abs=5e-6)
