@@ -565,8 +565,8 @@ def _integrate(law, mu, tangential, gk, kappa, tan_a, r_sum, omega0=0.0):
     # the first mode: does the spring's trial force start above the cap (Mindlin)?
     eps = 1e-6
     slip0 = tan_a + omega0
-    if slip0 <= 0:
-        raise ValueError("the spin must leave the contact point slipping forward (slip > 0)")
+    if slip0 < 0:
+        raise ValueError("the spin must leave the contact point slipping forward (slip ≥ 0)")
     if tangential == "coulomb" or mu * float(law.f(eps, 1.0)) < gk * math.sqrt(eps) * slip0 * eps:
         mode = ("slide", 1.0)
     else:

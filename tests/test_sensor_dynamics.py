@@ -161,12 +161,14 @@ def test_sensor_spec_reads_the_mode_and_the_discharge():
 
 
 # ---------------------------------------------------------------- fits on another generator
-def _fit(case, seed, **kw):
+def _fit(case, seed, stated=(), **kw):
+    """Fit a generator record as told, the truth of ``stated`` (sensor fields) told too."""
     rec, truth, told = M.CASES[case].make(seed)
     kw.setdefault("systematics", told["systematics"])
+    sensor = {**told["sensor"], **{k: truth[k] for k in stated}}
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        fit = fit_contact(rec, told["scene"], sensor=told["sensor"], n_boot=0, **kw)
+        fit = fit_contact(rec, told["scene"], sensor=sensor, n_boot=0, **kw)
     return fit, truth, [w.category for w in caught]
 
 
@@ -179,6 +181,14 @@ def test_a_stated_mode_is_a_systematic_and_the_parameters_hold():
     fit, truth, warned = _fit("resonance_stated", 1)
     assert "resonance" in fit.priors and "resonance" in fit.budget["E_eff"]
     assert "sensor_dynamics" not in fit.verdict["causes"]
+    assert all(_holds(fit, truth).values())
+
+
+def test_a_stated_discharge_is_a_systematic():
+    fit, truth, warned = _fit("discharge", 5, stated=("discharge",))
+    assert fit.priors["discharge"] == pytest.approx((truth["discharge"], 0.1 * truth["discharge"]))
+    assert "sensor_dynamics" not in fit.verdict["causes"]
+    assert fit.values["discharge"] == pytest.approx(truth["discharge"], rel=0.05)
     assert all(_holds(fit, truth).values())
 
 

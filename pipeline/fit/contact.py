@@ -48,6 +48,12 @@ Choices, and why:
 - **Poor fits** (χ²_ν more than five standard deviations above 1, or a runs test on a
   channel's residual signs below z = −2.326 at α = 0.01) are flagged and warned about with
   :class:`~pipeline.errors.PoorFitWarning`, never returned silently.
+- **The sensor's own dynamics**: a mounted mode or a discharge the sensor states is modelled
+  in series with its low-pass, its values known to their tolerances; one it does not state
+  is looked for in the first fit's residuals — and a zero shift with it — fitted where the
+  record shows it and kept where it lowers the AIC decisively, else bounded by what the
+  record allows, the bound's effect entering the budget (:mod:`pipeline.fit.dynamics`).
+  Spikes the window found are left out (:attr:`ContactFit.excluded`).
 """
 
 from __future__ import annotations
@@ -155,6 +161,11 @@ class ContactFit(FitResult):
     ----------
     model : pipeline.fit.forward.ForwardModel — normal law, tangential model, history rule
     data : pipeline.fit.forward.RecordData — the samples, weights and sensor model used
+    dynamics : dict — what the fit found of the sensor's own dynamics
+        (:mod:`pipeline.fit.dynamics`): ``what`` (in words) and the screen's numbers where
+        it fitted a mode, a discharge or a zero shift the sensor does not state;
+        ``bounds`` (the lowest f_n [Hz], the shortest τ [s] the record allows) where it
+        bounded them instead
     physics : dict — what the fitted parameters imply: ``t_c`` [s], ``F_max`` [N],
         ``delta_max`` [m], ``e_n``, ``e_t`` [-], ``omega`` [rad/s], ``Pn_final``,
         ``Pt_final`` [N·s], ``regime`` (``"sliding"``: the slip never stops),
@@ -374,7 +385,8 @@ class ContactFit(FitResult):
                 + "."
             )
         else:
-            missed = [w for c, w in zip(causes, said, strict=True) if c != "coloured_noise"]
+            modelled = ("coloured_noise", "sensor_dynamics", "spikes")
+            missed = [w for c, w in zip(causes, said, strict=True) if c not in modelled]
             if self.misfit is not None and not self.misfit.ok:
                 missed += _misfit_words(self.misfit)
             text = (
@@ -445,6 +457,8 @@ class ContactFit(FitResult):
                 else {k: v for k, v in self.verdict.items() if k != "impulse"}
                 | {"impulse": self.verdict.get("impulse", {})},
                 "laws": self.alternatives,
+                "sensor_dynamics": self.dynamics,
+                "excluded": self.excluded,
             }
         )
 
@@ -558,7 +572,7 @@ _CAUSE_WORDS = {
     "impulse_mismatch": "the model's impulse differs from the measured one",
     "geometry": "the contact normal turns on the curved target",
     "second_impact": "a second impact follows",
-    "sensor_dynamics": "the sensor's resonance or discharge shows in the record",
+    "sensor_dynamics": "the sensor's own mode, discharge or zero shift shows (modelled)",
     "spikes": "isolated spikes were left out",
 }
 
@@ -684,6 +698,9 @@ def fit_contact(
         Starting values overriding the module's rules.
     window_options : dict
         Passed to :func:`pipeline.window.find_contact`.
+    zero_shift : None or False
+        None (default): a zero shift of Fn or Ft is fitted where the record shows one
+        (:mod:`pipeline.fit.dynamics`, with the discharge); False: never.
 
     Returns
     -------

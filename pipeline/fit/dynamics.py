@@ -130,7 +130,6 @@ def screen(problem, theta, data, model, *, mode=True, discharge=True, shift=True
         return Findings()
     n = problem.n_data
     r = problem.residual(theta)[:n]
-    Q = _projector(problem.jacobian(theta)[:n])
     P = problem.design.local(np.asarray(theta)[None, :])[0]
     sol = problem.solution(theta)[0]
     t_end = float(P[0, _I["t0"]]) + float(
@@ -138,15 +137,18 @@ def screen(problem, theta, data, model, *, mode=True, discharge=True, shift=True
     )
     scores = {}
     found_mode = _mode(r, data, t_end, scores) if mode else None
+    ring = 0.0 if found_mode is None else 5.0 / (2 * math.pi * found_mode[0] * found_mode[1])
+    steps = _steps(data, float(P[0, _I["t0"]]), t_end + ring) if discharge or shift else {}
+    scores.update({f"{k}_step_chi2": v for k, v in steps.items()})
+    stepped = {k for k, v in steps.items() if v > STEP_EVIDENCE}  # else neither can pass
     columns = {}
-    if discharge:
+    Q = _projector(problem.jacobian(theta)[:n]) if stepped else None
+    if discharge and "Fn" in stepped:
         tau, col = _discharge_column(r, data, model, P, sol, Q, t_end)
         if col is not None:
             columns["discharge"] = (tau, col)
-    if shift:
-        columns.update(_shift_columns(r, data, model, P, sol, Q, t_end))
-    steps = _steps(data, float(P[0, _I["t0"]]), t_end)
-    scores.update({f"{k}_step_chi2": v for k, v in steps.items()})
+    if shift and stepped:
+        columns.update(_shift_columns(r, data, model, P, sol, Q, t_end, stepped))
     best, gain = _best_subset(r, columns, scores, steps)
     found_tau, found_shift = None, {}
     for k in best:
@@ -167,8 +169,9 @@ STEP_EVIDENCE = 9.0
 
 
 def _steps(data, t0, t_end) -> dict:
-    """{channel: χ² a step between the samples before the contact and those after it (and
-    the low-pass's settling, ten time constants of its slowest pole) explains beyond a
+    """{channel: χ² a step between the samples before the contact and those after ``t_end``
+    (and the low-pass's settling, ten time constants of its slowest pole; a ring the
+    screen found is let decay five of its time constants first) explains beyond a
     line}: the evidence of a shifted zero or a discharge that no misfit of the contact's
     model can give, for it leaves the contact out (each side whitened by the channel's
     noise model)."""
@@ -240,14 +243,16 @@ def _changes(data, model, P, sol, Q, which, values):
     return rows - (rows @ Q) @ Q.T
 
 
-def _shift_columns(r, data, model, P, sol, Q, t_end) -> dict:
-    """{channel: ((its parameter, at [s], width [s]), its column)} — each channel's trial
-    zero shift of 1 N whose course explains most (module notes)."""
+def _shift_columns(r, data, model, P, sol, Q, t_end, channels) -> dict:
+    """{channel: ((its parameter, at [s], width [s]), its column)} — each of ``channels``'
+    trial zero shift of 1 N whose course explains most (module notes)."""
     t0 = float(P[0, _I["t0"]])
     dur = t_end - t0
     grid = np.array([(t0 + a * dur, w * dur) for a in _SHIFT_AT for w in _SHIFT_WIDTH])
     out = {}
     for c in data.channels:
+        if c.name not in channels:
+            continue
         param = "shift_n" if c.name == "Fn" else "shift_t"
         values = np.column_stack([np.ones(len(grid)), grid])
         rows = _changes(data, model, P, sol, Q, (param, "shift_at", "shift_width"), values)
@@ -348,7 +353,7 @@ def _mode(r, data, t_end, scores):
         cost,
         [1.0, math.log(best / w0)],
         method="Nelder-Mead",
-        options={"xatol": 1e-5, "fatol": 1e-6},
+        options={"xatol": 1e-5, "fatol": 1e-6, "maxiter": 120},
     )
     w, s = min(max(res.x[0], lo), hi) * w0, w0 * math.exp(min(res.x[1], 1.0))
     chi2 = -float(res.fun)
@@ -369,8 +374,8 @@ def _mode(r, data, t_end, scores):
 ZETA_BOUND = 0.1
 #: Trial modes of the bound, in contact frequencies (f_n·t_c), and trial discharges, in
 #: contact times.
-_FN_BOUND = np.geomspace(1.0, 100.0, 25)
-_TAU_BOUND = np.geomspace(1.0, 1e4, 21)
+_FN_BOUND = np.geomspace(1.0, 100.0, 13)
+_TAU_BOUND = np.geomspace(1.0, 1e4, 11)
 #: Δχ² beyond which the record excludes a trial mode or discharge (one-sided 95 %: z²).
 _EXCLUDED = 2.706
 

@@ -376,16 +376,16 @@ def dynamics_text(fit) -> str:
     parts = []
     if "resonance" in fit.vary and "resonance" not in fit.priors:
         parts.append(
-            f"a mounted mode rings after the pulse: fitted f_n = {v['resonance']:.4g} ± "
+            f"a mounted mode rings after the pulse: fitted f_n = {v['resonance']:.6g} ± "
             f"{se['resonance']:.2g} Hz, ζ = {v['damping_ratio']:.3g} ± {se['damping_ratio']:.2g}"
-            f" (state it: sensor={{'resonance': {v['resonance']:.3g}, 'damping_ratio': "
+            f" (state it: sensor={{'resonance': {v['resonance']:.4e}, 'damping_ratio': "
             f"{v['damping_ratio']:.2g}}})"
         )
     if "discharge" in fit.vary and "discharge" not in fit.priors:
         parts.append(
             f"the piezo discharges (the record undershoots after the pulse): fitted τ = "
             f"{v['discharge']:.3g} ± {se['discharge']:.2g} s (state it: sensor={{'discharge': "
-            f"{v['discharge']:.3g}}})"
+            f"{v['discharge']:.3e}}})"
         )
     for name, value in zero_shifts(fit).items():
         peak = fit.physics.get("F_max", math.nan)
