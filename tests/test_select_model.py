@@ -213,3 +213,23 @@ def test_averaged_intervals_span_laws_the_data_cannot_tell_apart():
             assert ci[name][0] <= f.values[name] <= ci[name][1], (law, name)
     b = sel.averaged.budget["e"]
     assert b["model"] > 0.1 * b["total"]
+
+
+def test_the_rigid_candidate_draws_and_exports_without_a_force_history():
+    """select_model's rigid candidate puts impulses at t0 (no force history): its fit's
+    contact forces are empty, and its figure and Dataset show the record and the impulses
+    as the sensor records them, with no contact force or Routh line drawn."""
+    from pipeline.figures import fig_contact_fit
+
+    sc = Scene(**GR, speed=0.6, angle_deg=45.0, mu=0.1, e=0.9)
+    rec = to_sensor(impact(sc, samples=2001), seed=21)
+    told = sc.replace(mu=None, e=None)
+    sel = quiet(select_model, rec, told, candidates=[("rigid", None)], n_boot=0)
+    fit = sel.fit
+    assert sel.chosen == "rigid" and fit.true_forces(fit.data.channels[0].t) == {}
+    fig = fig_contact_fit(fit)
+    gids = {line.get_gid() for ax in fig.axes for line in ax.lines}
+    assert {"measured-Fn", "model-Fn", "measured-Ft", "model-Ft"} <= gids
+    assert not any(str(g).startswith(("true-", "rigid-")) for g in gids)
+    ds = fit.to_dataset()
+    assert {"Fn_model", "Ft_model"} <= set(ds) and not {"Fn_true", "Ft_rigid"} & set(ds)

@@ -290,7 +290,11 @@ class ContactFit(FitResult):
     def true_forces(self, t) -> dict:
         """The fitted contact forces (before the sensor) at instants ``t`` [s]: ``Fn``,
         ``Ft`` [N], and ``Ft_rigid``, Routh's broken line on the fitted normal pulse
-        (Ft = μ·Fn until the slip would stop, then 0; docs/theory.md)."""
+        (Ft = μ·Fn until the slip would stop, then 0; docs/theory.md). Empty for
+        :func:`pipeline.select_model`'s rigid candidate: its impulses at t0 have no force
+        history (:meth:`predicted` holds them as the sensor records them)."""
+        if self.model.normal is None:
+            return {}
         P = self._P()
         sol = self.model.solve([self.data], [P])[0]
         out = self.model.curves(self.data, P, sol, t)
@@ -467,7 +471,8 @@ class ContactFit(FitResult):
 
         Variables ``<ch>`` (measured less baseline), ``<ch>_model`` [N] and
         ``<ch>_residual`` [(y − model)/σ], ``<ch>_true`` (the model before the sensor) [N]
-        and ``Ft_rigid`` [N] on coordinate ``time_<ch>`` [s]; attrs: the summary as JSON.
+        and ``Ft_rigid`` [N] (neither for a rigid fit: :meth:`true_forces`) on coordinate
+        ``time_<ch>`` [s]; attrs: the summary as JSON.
         """
         import json
 
