@@ -149,8 +149,9 @@ def test_a_speed_known_to_two_per_cent_gives_intervals_that_hold_the_truth():
 
 def test_the_budget_adds_up_and_sets_the_interval():
     """total² = stat² + Σ systematic² + model² for every parameter, and the covariance
-    interval of kind 'total' is value ± z·total (z = 1.95996 at 95 %); 'stat' alone is
-    narrower."""
+    interval of kind 'total' is value ± z·total (z = 1.95996 at 95 %) — for E* and
+    kt_scale, positive scale parameters, value·exp(±z·total/value) (docs/uncertainty.md);
+    'stat' alone is narrower."""
     sc = gr(angle_deg=30.0, mu=0.13)
     rec = to_sensor(impact(sc, samples=2001), seed=11)
     fit = quiet(fit_contact, rec, sc.replace(e=None, mu=None), n_boot=0)
@@ -161,9 +162,51 @@ def test_the_budget_adds_up_and_sets_the_interval():
         parts = [v for k, v in row.items() if k != "total"]
         assert row["total"] == pytest.approx(math.sqrt(sum(v * v for v in parts)), rel=1e-12)
         v = fit.values[name]
-        assert total[name][1] - v == pytest.approx(z * row["total"], rel=1e-9), name
+        if name in ("E_eff", "kt_scale"):
+            lo, hi = total[name]
+            assert math.log(hi / v) == pytest.approx(z * row["total"] / v, rel=1e-9), name
+            assert math.log(v / lo) == pytest.approx(z * row["total"] / v, rel=1e-9), name
+        else:
+            assert total[name][1] - v == pytest.approx(z * row["total"], rel=1e-9), name
         assert stat[name][1] - stat[name][0] <= total[name][1] - total[name][0]
     assert set(fit.budget["E_eff"]) >= {"stat", "speed", "mass", "gain_n", "model", "total"}
+
+
+def test_intervals_stay_inside_the_parameters_domain():
+    """A model spread wider than a parameter's distance to the end of its domain (the
+    default law on a plastic record: E* ± 50 %, e = 0.98 ± 0.1) no longer carries its
+    interval past that end: E* on the log scale, value·exp(±z·total/value), positive; e
+    cut at 1 and μ at 0, the other end value ± z·total; the table notes each cut end."""
+    from pipeline.fit.result import FitResult
+
+    se = np.array([1e9, 0.01, 0.004])
+    fit = FitResult(
+        names=("E_eff", "e", "mu"),
+        theta=np.array([50e9, 0.98, 0.01]),
+        varied=(True, True, True),
+        cov=np.diag(se**2),
+        chi2=100.0,
+        n_data=103,
+        params=None,
+        result=None,
+        model_spread={"E_eff": 30e9, "e": 0.1, "mu": 0.02},
+    )
+    z = 1.959963984540054
+    total = {n: math.hypot(s, fit.model_spread[n]) for n, s in zip(fit.names, se, strict=True)}
+    ci = fit.ci()
+    (E_lo, E_hi), (e_lo, e_hi), (mu_lo, mu_hi) = ci["E_eff"], ci["e"], ci["mu"]
+    assert 50e9 - z * total["E_eff"] < 0 < E_lo  # the linear interval would leave E* > 0
+    assert math.log(E_hi / 50e9) == pytest.approx(z * total["E_eff"] / 50e9, rel=1e-12)
+    assert math.log(50e9 / E_lo) == pytest.approx(z * total["E_eff"] / 50e9, rel=1e-12)
+    assert e_hi == 1.0 and e_lo == pytest.approx(0.98 - z * total["e"], rel=1e-12)
+    assert mu_lo == 0.0 and mu_hi == pytest.approx(0.01 + z * total["mu"], rel=1e-12)
+    stat = fit.ci(kind="stat")["E_eff"]  # the data's Wald interval, on the log scale too
+    assert stat == pytest.approx((50e9 * math.exp(-z / 50), 50e9 * math.exp(z / 50)), rel=1e-12)
+    table = fit.table()
+    assert table.loc["e", "95 % interval"].endswith("1.00]")
+    notes = " ".join(table.attrs["details"])
+    assert "e's interval ends at 1," in notes and "μ's interval ends at 0," in notes
+    assert "E*'s interval" not in notes
 
 
 @pytest.mark.parametrize(("angle", "separable"), [(15.0, True), (30.0, True), (45.0, False)])

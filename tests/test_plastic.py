@@ -311,5 +311,10 @@ def test_fit_recovers_a_plastic_contact():
         warnings.simplefilter("ignore", PipelineWarning)
         default = fit_contact(rec, told, tangential="none", n_boot=0)
     assert {"normal_law", "impulse_mismatch"} <= set(default.verdict["causes"])
+    # the default law's model spread is wide, and its intervals stay where E* and e can be
+    # (E* > 0, e ≤ 1; docs/uncertainty.md) and hold the truth
+    (E_lo, E_hi), (e_lo, e_hi) = default.ci()["E_eff"], default.ci()["e"]
+    assert 0 < E_lo <= E <= E_hi and e_lo <= truth["e"] <= e_hi <= 1.0
     assert min(default.alternatives, key=lambda k: default.alternatives[k]["aic"]) == "thornton"
     assert default.verdict["impulse"]["Pn"]["e_impulse"] == pytest.approx(truth["e"], abs=0.03)
+

@@ -12,6 +12,16 @@ known σ and
 (k varied parameters, N samples): differences of these between models fitted to the same
 samples are the differences of −2 ln L plus the penalties. lmfit's own ``aic``/``bic``
 (which estimate σ from the residuals) stay in :attr:`FitResult.result`.
+
+**Intervals inside the parameter's domain** (:func:`in_domain`; docs/uncertainty.md). The
+systematics and the model spread widen the data's interval, and a wide model spread can
+carry a symmetric interval past what the parameter can be (e above 1 on a plastic record
+fitted with a damped law, a negative E*). A positive scale parameter (:data:`LOG_SCALE`:
+E*, the tangential stiffness' scale) has its interval built on the log scale — the data's
+Wald interval θ·exp(±z·σ/θ), the widening by its relative σ — so it stays positive and
+reads as a factor either way; a parameter with a bounded domain (:data:`DOMAINS`: e in
+[0, 1], μ and α ≥ 0) has its interval cut at the domain's end, which :meth:`FitResult.table`
+notes. The standard uncertainties (``stderr``, the budget) stay as they are.
 """
 
 from __future__ import annotations
@@ -25,10 +35,55 @@ from scipy import special
 from .. import precision
 from .._json import json_ready
 from .forward import SYSTEMATIC_PARAMS, UNITS
-from .procedure import MISFIT_Z
+from .procedure import MISFIT_Z, base_name
 from .uncertainty import normal_interval, one_sided_bound, percentile_interval
 
-__all__ = ["FitResult", "kind_of"]
+__all__ = ["FitResult", "kind_of", "DOMAINS", "LOG_SCALE", "in_domain"]
+
+#: The domain (lo, hi) of the parameters that have one, in SI; its ends may be reached (e =
+#: 1 is an elastic impact, μ = 0 a frictionless one): intervals stay inside (:func:`in_domain`).
+DOMAINS = {
+    "E_eff": (0.0, math.inf),
+    "kt_scale": (0.0, math.inf),
+    "e": (0.0, 1.0),
+    "mu": (0.0, math.inf),
+    "alpha": (0.0, math.inf),
+    "beta0": (-1.0, 1.0),
+}
+#: Positive scale parameters: their intervals are built on the log scale (module notes).
+LOG_SCALE = ("E_eff", "kt_scale")
+
+
+def in_domain(name, value, lo, hi, widen=0.0, centre=None) -> tuple:
+    """A parameter's interval (lo, hi) [its unit], widened and kept inside its domain.
+
+    Parameters
+    ----------
+    name : str — the parameter (a campaign's ``kt_scale_3`` is a ``kt_scale``)
+    value : float — its value [its unit]: the interval is placed about it
+    lo, hi : float — the data's interval, about ``centre`` (default ``value``)
+    widen : float — z·σ of the terms beyond the data's [its unit], added to each side's
+        half width in quadrature (0: none)
+    centre : float, optional — where the data's interval was found (a model average moves
+        it to ``value``)
+
+    Returns
+    -------
+    (lo, hi)
+        For a parameter of :data:`LOG_SCALE`: the half widths ln(centre/lo), ln(hi/centre)
+        with widen/value in quadrature, about ln(value); otherwise lo and hi moved by
+        value − centre, widened, and cut at the ends of its :data:`DOMAINS` entry.
+    """
+    base = base_name(name)
+    c = value if centre is None else centre
+    if widen > 0 or c != value:
+        if base in LOG_SCALE and value > 0 and c > 0 and lo > 0:
+            w = widen / value
+            a, b = math.hypot(math.log(c / lo), w), math.hypot(math.log(hi / c), w)
+            return value * math.exp(-a), value * math.exp(b)
+        lo, hi = value - math.hypot(c - lo, widen), value + math.hypot(hi - c, widen)
+    d_lo, d_hi = DOMAINS.get(base, (-math.inf, math.inf))
+    return max(lo, d_lo), min(hi, d_hi)
 
 
 def kind_of(name: str) -> str:
@@ -64,6 +119,22 @@ def _misfit_words(m, records=()) -> list:
             z += f"; and in {long - len(runs)} more of the {len(m.runs_z)} channels"
         out.append(f"the residual signs run in long stretches ({z})")
     return out or list(m.reasons)
+
+
+def _cut_words(rows) -> list:
+    """What :meth:`FitResult.table` says of the intervals that end at their domain's end."""
+    out = []
+    for r in rows:
+        d_lo, d_hi = DOMAINS.get(base_name(r["name"]), (-math.inf, math.inf))
+        lo, hi = r.get("ci") or (math.nan, math.nan)
+        if r.get("status", "fitted") == "fitted" and (lo == d_lo or hi == d_hi):
+            sym = precision.quantity(r["name"]).symbol
+            end = f"{d_hi if hi == d_hi else d_lo:g}"
+            out.append(
+                f"{sym}'s interval ends at {end}, the end of the values {sym} can take: an "
+                "interval is kept inside them (docs/uncertainty.md)."
+            )
+    return out
 
 
 @dataclass(frozen=True, eq=False)
@@ -280,8 +351,11 @@ class FitResult:
             model spread of :attr:`budget`, each side in quadrature (a symmetric data
             interval becomes value ± z·total); ``"stat"``: the data's alone.
 
-        A parameter bounded only from below gets (profile lower bound, +inf) either way; one
-        bounded only from above (0, profile upper bound).
+        Every interval lies inside its parameter's domain (module notes, :func:`in_domain`):
+        E* and the tangential stiffness' scale on the log scale (the covariance's interval
+        value·exp(±z·total/value)), e, μ and α cut at their domain's ends. A parameter
+        bounded only from below gets (profile lower bound, +inf) either way; one bounded
+        only from above (0, profile upper bound).
         """
         if not 0 < level < 1:
             raise ValueError(f"level must lie in (0, 1), got {level!r}")
@@ -318,17 +392,16 @@ class FitResult:
                 lo, hi = normal_interval(float(self.theta[i]), math.sqrt(self.cov[j, j]), level)
                 out[n] = (lo, hi)
                 continue
+            v = float(self.theta[i])
             if n in self.profiles:  # flat at the optimum: the bootstrap would not move it
                 lo, hi = self._profile_interval(n, level)
             elif use_boot:
                 lo, hi = percentile_interval(self.boot[:, i], level)
+            elif base_name(n) in LOG_SCALE and v > 0:  # Wald on the log scale
+                lo, hi = v * math.exp(-z * se[n] / v), v * math.exp(z * se[n] / v)
             else:
-                lo, hi = normal_interval(float(self.theta[i]), se[n], level)
-            w = z * extra.get(n, 0.0)
-            if w > 0:
-                v = float(self.theta[i])
-                lo, hi = v - math.hypot(v - lo, w), v + math.hypot(hi - v, w)
-            out[n] = (lo, hi)
+                lo, hi = normal_interval(v, se[n], level)
+            out[n] = in_domain(n, v, lo, hi, z * extra.get(n, 0.0))
         return out
 
     # ------------------------------------------------------------ text
@@ -381,6 +454,7 @@ class FitResult:
         rows += self._derived_rows(level)
         rows.sort(key=lambda r: r["kind"] != "contact")  # the physical parameters first
         verdict, details = self._verdict_words()
+        details = list(details) + _cut_words(rows)
         df = precision.parameter_table(
             rows,
             {r["name"]: budget[r["name"]] for r in rows if r["name"] in budget},

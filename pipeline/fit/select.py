@@ -63,7 +63,7 @@ from ..errors import InputError, PipelineWarning
 from ..precision import model_words
 from .contact import DEFAULT_VARY, ContactFit, fit_contact, fit_model
 from .forward import _I, ANALYTIC, SYSTEMATIC_PARAMS, ForwardModel, RecordData, weighted_residuals
-from .result import kind_of
+from .result import in_domain, kind_of
 from .verdict import akaike_weights
 
 __all__ = [
@@ -232,13 +232,13 @@ class AveragedFit:
             if name not in self.values or not (np.isfinite(lo) and np.isfinite(hi)):
                 out[name] = (lo, hi)
                 continue
-            v0, v = self.fit.values[name], self.values[name]
             extra = 0.0
             if kind == "total" and name in self.budget:
                 row = self.budget[name]
                 extra = math.sqrt(sum(x * x for k, x in row.items() if k not in ("stat", "total")))
-            lo, hi = v - math.hypot(v0 - lo, z * extra), v + math.hypot(hi - v0, z * extra)
-            out[name] = (lo, hi)
+            out[name] = in_domain(
+                name, self.values[name], lo, hi, z * extra, centre=self.fit.values[name]
+            )
         return out
 
     @property
