@@ -24,7 +24,9 @@ fixed one with "fixed"; any other number (a prediction, an implied quantity) at
 **Units.** :data:`QUANTITIES` names each quantity the package reports with its symbol, its
 meaning and the unit a person reads it in (E* in GPa, times in µs, percussions in mN·s,
 forces in N or kN by magnitude, speeds in m/s; μ, e dimensionless; α in s/m); a
-campaign's per-record parameters (``kt_scale_3``) take their quantity's.
+campaign's per-record parameters (``kt_scale_3``) take their quantity's. A campaign's
+material constant ``alpha`` is the law's (:attr:`pipeline.contact.NormalLaw.material`):
+the Hunt–Crossley family's α [s/m], Thornton's yield speed v_y [m/s] (:func:`reads_as`).
 
 **Budgets.** The uncertainty budget is shown as each term's share of the total variance
 (:func:`variance_shares`: σ_i²/σ_total², which add up to 100 % because the terms add in
@@ -61,6 +63,8 @@ __all__ = [
     "plain_quantities",
     "model_words",
     "hypothesis_words",
+    "MATERIAL_CONSTANTS",
+    "reads_as",
 ]
 
 #: Significant digits of a number shown without an uncertainty.
@@ -140,6 +144,18 @@ QUANTITIES = {
     "redchi": Quantity("χ²_ν", "reduced χ²"),
 }
 
+#: A campaign's material constant ``alpha`` under a normal law whose constant is not the
+#: Hunt–Crossley family's α [s/m]: the quantity it is (:func:`reads_as`).
+MATERIAL_CONSTANTS = {"thornton": "v_y"}
+
+
+def reads_as(name: str, normal=None) -> str:
+    """The quantity's name that result ``name`` reads as under the normal law ``normal``: a
+    campaign's ``alpha`` under Thornton's law is the yield speed ``"v_y"`` [m/s]
+    (:data:`MATERIAL_CONSTANTS`); any other name itself."""
+    return MATERIAL_CONSTANTS.get(normal, name) if name == "alpha" else name
+
+
 #: The models' names in words (:func:`model_words`).
 MODEL_WORDS = {
     "hunt_crossley": "Hunt–Crossley",
@@ -163,9 +179,14 @@ HYPOTHESIS_WORDS = {
 }
 
 
-def hypothesis_words(mu_law: str, damping: str) -> str:
-    """A campaign fit's hypothesis in words: ``"μ = μ_a + μ_b·v_t0, e constant"``."""
-    return f"{HYPOTHESIS_WORDS.get(mu_law, mu_law)}, {HYPOTHESIS_WORDS.get(damping, damping)}"
+def hypothesis_words(mu_law: str, damping: str, normal=None) -> str:
+    """A campaign fit's hypothesis in words: ``"μ = μ_a + μ_b·v_t0, e constant"``; under
+    ``normal``, Thornton's law, the constant material is its yield speed v_y
+    (:func:`reads_as`)."""
+    words = HYPOTHESIS_WORDS.get(damping, damping)
+    if damping == "constant_alpha" and normal in MATERIAL_CONSTANTS:
+        words = words.replace("α", quantity(MATERIAL_CONSTANTS[normal]).symbol, 1)
+    return f"{HYPOTHESIS_WORDS.get(mu_law, mu_law)}, {words}"
 
 
 def model_words(name) -> str:
@@ -339,7 +360,7 @@ def share_text(percent: float) -> str:
     return f"{percent:.1f}" if percent < 0.95 else f"{percent:.0f}"
 
 
-def parameter_table(entries, budget=None, *, verdict="", details=(), level=0.95):
+def parameter_table(entries, budget=None, *, verdict="", details=(), level=0.95, normal=None):
     """The human table of a fit: one row per parameter, rounded, in its unit.
 
     Parameters
@@ -354,6 +375,8 @@ def parameter_table(entries, budget=None, *, verdict="", details=(), level=0.95)
     verdict : str — the verdict in words (``attrs["verdict"]``)
     details : sequence of str — what stands behind it (``attrs["details"]``)
     level : float — the intervals' level
+    normal : str, optional — the fit's normal law: the quantity a campaign's ``alpha``
+        is (:func:`reads_as`)
 
     Returns
     -------
@@ -376,7 +399,8 @@ def parameter_table(entries, budget=None, *, verdict="", details=(), level=0.95)
         name, status = e["name"], e.get("status", "fitted")
         v, s = e["value"], e.get("stderr", math.nan)
         lo, hi = e.get("ci") or (math.nan, math.nan)
-        unit, v_u, s_u, lo_u, hi_u = in_unit(name, v, s, lo, hi)
+        what = reads_as(name, normal)
+        unit, v_u, s_u, lo_u, hi_u = in_unit(what, v, s, lo, hi)
         if status in ("lower", "upper"):
             text, ci = bound(v_u, status), "–"
         elif status == "fixed":
@@ -388,7 +412,7 @@ def parameter_table(entries, budget=None, *, verdict="", details=(), level=0.95)
             ci = interval(lo_u, hi_u, v_u, s_u) if e.get("ci") else "–"
         row = {
             "parameter": name,
-            "quantity": quantity(name).symbol,
+            "quantity": quantity(what).symbol,
             "value": text,
             "unit": unit,
             head: ci,

@@ -467,11 +467,11 @@ def joint_table(ds) -> pd.DataFrame:
         {},
     )
     verdict = (
-        f"{hypothesis_words(hyp.get('mu_law'), hyp.get('damping'))}: the best of "
+        f"{hypothesis_words(hyp.get('mu_law'), hyp.get('damping'), jf.get('normal'))}: the best of "
         f"{len(jf.get('compare', []))} hypotheses by AIC"
         + (f", χ²_ν = {plain(chosen['redchi'], 3)}" if chosen.get("redchi") is not None else "")
     )
-    df = precision.parameter_table(rows, verdict=verdict)
+    df = precision.parameter_table(rows, verdict=verdict, normal=jf.get("normal"))
     df = df.drop(columns=[c for c in df.columns if c.endswith("interval")])
     compare = pd.DataFrame(jf.get("compare", []))
     if not compare.empty:

@@ -318,3 +318,62 @@ def test_fit_recovers_a_plastic_contact():
     assert min(default.alternatives, key=lambda k: default.alternatives[k]["aic"]) == "thornton"
     assert default.verdict["impulse"]["Pn"]["e_impulse"] == pytest.approx(truth["e"], abs=0.03)
 
+
+def test_a_campaign_holds_the_yield_speed_constant():
+    """Three normal Thornton impacts of one ball at 0.3, 0.6 and 1.2 m/s (p_y = 1 GPa, so
+    one yield speed v_y = 0.086 m/s and e falling with speed, Thornton's eq. 27) fitted
+    jointly with the material constant held (``damping="constant_alpha"``): ``alpha`` is
+    then v_y, recovered within its interval, and read as v_y in m/s — not Hunt–Crossley's
+    α in s/m — in the table, the report, the summary, a campaign's Dataset and its
+    report's table (pipeline.precision.reads_as)."""
+    import json
+    import warnings
+
+    import xarray as xr
+
+    from pipeline import fit_campaign
+    from pipeline._json import json_ready
+    from pipeline.campaigns import joint
+    from pipeline.errors import PipelineWarning
+    from pipeline.sensor_model import to_sensor
+    from pipeline.simulate import impact
+    from pipeline.tables import joint_table
+
+    E, R, m = _wc()
+    v_y = contact.yield_velocity(P_Y, E, R, m)
+    recs, scenes = [], []
+    for i, v in enumerate((0.3, 0.6, 1.2)):
+        s = WC_ON_GLASS.replace(speed=v, mu=None, e=None)
+        sim = impact(s, "thornton", "none", param=v_y / v, samples=4001, rtol=1e-10)
+        recs.append(to_sensor(sim, noise=0.3, seed=40 + i))
+        scenes.append(s)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", PipelineWarning)
+        fit = fit_campaign(
+            recs, scenes, normal="thornton", tangential="none", damping="constant_alpha",
+            hypotheses="one",
+        )  # fmt: skip
+    lo, hi = fit.ci()["alpha"]
+    assert lo <= v_y <= hi and hi - lo < 0.05 * v_y
+    row = fit.table().loc["alpha"]
+    assert (row["quantity"], row["unit"]) == ("v_y", "m/s")
+    assert "v_y constant" in fit.table().attrs["verdict"]
+    assert fit.summary()["parameters"]["alpha"]["unit"] == "m/s"
+    assert any(ln.split()[0] == "alpha" and " m/s " in ln for ln in fit.report().splitlines())
+    # a campaign's Dataset and its report (the joint fit as pipeline.campaigns stores it)
+    jf = json_ready({
+        "records": ["a", "b", "c"],
+        "normal": fit.model.normal,
+        "hypothesis": {"mu_law": "constant", "damping": "constant_alpha"},
+        "values": dict(fit.values),
+        "stderr": dict(fit.stderr),
+        "compare": fit.compare().to_dict("records"),
+    })  # fmt: skip
+    ds = xr.Dataset()
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(joint, "joint_fit", lambda tasks, ds, **kw: jf)
+        ds = joint.with_joint_fit(ds, [])
+    assert ds["joint_alpha"].attrs["units"] == "m/s" and ds["joint_E_eff"].attrs["units"] == "Pa"
+    assert json.loads(ds.attrs["joint_fit_json"])["normal"] == "thornton"
+    shown = joint_table(ds).loc["alpha"]
+    assert (shown["quantity"], shown["unit"]) == ("v_y", "m/s")

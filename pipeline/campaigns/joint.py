@@ -23,6 +23,7 @@ from collections.abc import Sequence
 from .._json import json_ready
 from ..errors import InputError, PipelineWarning
 from ..fit import fit_campaign
+from ..precision import reads_as
 from ..scene import Scene
 from .tasks import FIT_PARAMETERS, read_task_record
 
@@ -30,8 +31,9 @@ __all__ = ["joint_fit", "with_joint_fit"]
 
 log = logging.getLogger(__name__)
 
-#: Units of the joint fit's parameters besides :data:`FIT_PARAMETERS`.
-_UNITS = {**FIT_PARAMETERS, "alpha": "s/m", "mu_a": "1", "mu_b": "s/m"}
+#: Units of the joint fit's parameters besides :data:`FIT_PARAMETERS` (``alpha`` is the
+#: law's material constant: Thornton's reads as the yield speed v_y, ``reads_as``).
+_UNITS = {**FIT_PARAMETERS, "alpha": "s/m", "v_y": "m/s", "mu_a": "1", "mu_b": "s/m"}
 
 
 def joint_fit(tasks, ds, **options) -> dict | None:
@@ -60,6 +62,7 @@ def joint_fit(tasks, ds, **options) -> dict | None:
     return json_ready(
         {
             "records": [t.name for t in ok],
+            "normal": chosen.model.normal,
             "hypothesis": {"mu_law": key[0], "damping": key[1]},
             "values": dict(chosen.values),
             "stderr": dict(chosen.stderr),
@@ -106,12 +109,9 @@ def with_joint_fit(ds, tasks, **options):
         return ds
     ds.attrs["joint_fit_json"] = json.dumps(jf, allow_nan=False, sort_keys=True)
     for name, v in jf["values"].items():
-        if isinstance(v, (int, float)) and name in _UNITS:
+        unit = _UNITS.get(reads_as(name, jf.get("normal")))
+        if isinstance(v, (int, float)) and unit is not None:
             se = jf["stderr"].get(name)
-            ds[f"joint_{name}"] = ((), float(v), {"units": _UNITS[name]})
-            ds[f"joint_{name}_std"] = (
-                (),
-                math.nan if se is None else float(se),
-                {"units": _UNITS[name]},
-            )
+            ds[f"joint_{name}"] = ((), float(v), {"units": unit})
+            ds[f"joint_{name}_std"] = ((), math.nan if se is None else float(se), {"units": unit})
     return ds

@@ -299,14 +299,15 @@ class CampaignFit(FitResult):
     def _verdict_words(self) -> tuple:
         """(the verdict in a sentence, [the hypotheses compared]) (:meth:`table`)."""
         text, details = super()._verdict_words()
-        hyp = hypothesis_words(self.mu_law, self.damping)
+        hyp = hypothesis_words(self.mu_law, self.damping, self.model.normal)
         text = f"Joint fit of {len(self.records)} records ({hyp}): " + text[0].lower() + text[1:]
         if len(self.hypotheses) > 1:
             df = self.compare()
             best = df.iloc[0]
             gap = f", ΔAIC = {plain(df['delta_aic'].iloc[1], 3)} to the next" if len(df) > 1 else ""
             details = [
-                f"best hypothesis by AIC: {hypothesis_words(best['mu_law'], best['damping'])}"
+                "best hypothesis by AIC: "
+                f"{hypothesis_words(best['mu_law'], best['damping'], self.model.normal)}"
                 + gap,
                 *details,
             ]

@@ -138,7 +138,9 @@ class _Single(Design):
 
 
 def e_of_alpha(law, alpha, E, speed, R_eff, m_eff, cos_a):
-    """Restitution of ``law`` with material constant α [s/m] at E* [Pa] and speed [m/s], for
+    """Restitution of ``law`` with its material constant ``alpha`` (α [s/m] for the
+    Hunt–Crossley family, the yield speed v_y [m/s] for Thornton's law: the law's
+    :attr:`~pipeline.contact.NormalLaw.material`) at E* [Pa] and speed [m/s], for
     R* [m], m* [kg] and the incidence's cosine (docs/theory.md); every argument broadcast,
     so a campaign's records and rows take one call of the law's closed form."""
     L = NORMAL_LAWS[law]

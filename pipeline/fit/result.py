@@ -461,8 +461,19 @@ class FitResult:
             verdict=verdict,
             details=details,
             level=level,
+            normal=self._normal_law,
         )
         return precision.styled(df) if style else df
+
+    @property
+    def _normal_law(self):
+        """The fit's normal law (None where it has none): what a campaign's ``alpha`` is."""
+        return getattr(getattr(self, "model", None), "normal", None)
+
+    def _unit(self, name) -> str:
+        """The SI unit of parameter ``name`` (:data:`~pipeline.fit.forward.UNITS`; a
+        campaign's ``alpha`` in its law's unit: :func:`pipeline.precision.reads_as`)."""
+        return UNITS.get(base_name(precision.reads_as(name, self._normal_law)), "")
 
     def _derived_rows(self, level) -> list:
         """Rows of :meth:`table` for quantities the fitted parameters imply (none here)."""
@@ -509,7 +520,7 @@ class FitResult:
         lines = []
         for n in self.names:
             v = self.values[n]
-            unit = UNITS.get(n.rsplit("_", 1)[0] if n not in UNITS else n, "")
+            unit = self._unit(n)
             if n not in self.vary:
                 lines.append(f"    {n:<12s} = {v:.6g} {unit} (fixed)")
             elif n in self.one_sided:
@@ -532,7 +543,7 @@ class FitResult:
         for n in self.names:
             entry = {
                 "value": self.values[n],
-                "unit": UNITS.get(n.rsplit("_", 1)[0] if n not in UNITS else n, ""),
+                "unit": self._unit(n),
                 "vary": n in self.vary,
             }
             if n in self.vary:
