@@ -39,8 +39,8 @@ STAGES = [
     ("Records with known truth", ["pipeline.simulate", "pipeline.sensor_model"]),
     ("Fitting contact parameters", ["pipeline.fit"]),
     ("One record, many records", ["pipeline.score", "pipeline.analysis", "pipeline.campaigns"]),
-    ("Outputs", ["pipeline.report", "pipeline.figures", "pipeline.export",
-                 "pipeline.notebook_report"]),
+    ("Outputs", ["pipeline.report", "pipeline.tables", "pipeline.precision",
+                 "pipeline.figures", "pipeline.export", "pipeline.notebook_report"]),
 ]
 #: Module prefixes with no reference pages (the command line is documented in cli.md).
 SKIP = ("pipeline.cli", "pipeline.templates")
