@@ -102,7 +102,8 @@ def test_record_report_shows_figures_and_renders_html(report):
     # network (the page works offline): no script at all, no remote source or stylesheet
     code = [c for c in nb.cells if c.cell_type == "code"]
     assert html.count('<details class="pipeline-code">') == len(code)
-    assert html.count("<summary>parameters</summary>") == 2
+    assert html.count("<summary>the template's default parameters</summary>") == 1
+    assert html.count("<summary>parameters of this report</summary>") == 1
     assert "<script" not in html
     assert not re.search(r"""(src|href)=["']?(https?:)?//""", html)
 
