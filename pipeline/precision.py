@@ -285,16 +285,16 @@ def rounded(value: float, stderr: float) -> str:
 
 
 def plain(value: float, digits: int = PLAIN_DIGITS) -> str:
-    """A number without an uncertainty at ``digits`` significant digits (``"–"`` for NaN,
-    ``"∞"`` for infinity); a minus sign is U+2212."""
-    if value is None or (isinstance(value, float) and math.isnan(value)):
+    """A number without an uncertainty at ``digits`` significant digits (``"–"`` for NaN
+    or None, ``"∞"`` for infinity), positional from 1e-4 to below 1e6, else with a power of
+    ten."""
+    if value is None or math.isnan(value := float(value)):
         return "–"
-    value = float(value)
     if math.isinf(value):
         return "∞" if value > 0 else "-∞"
     if value == 0:
         return "0"
-    mag = math.floor(math.log10(abs(value)))
+    mag = int(f"{value:.{digits - 1}e}".partition("e")[2])  # after rounding: 0.099996 → 0.1000
     if -4 <= mag < 6:
         text = f"{round(value, digits - 1 - mag):.{max(digits - 1 - mag, 0)}f}"
     else:

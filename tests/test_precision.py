@@ -9,6 +9,7 @@ import math
 import warnings
 from pathlib import Path
 
+import numpy as np
 import pytest
 from _rig import GR_RIG as GR
 from _shown import UNIT_SCALE, close, parse_interval, parse_value
@@ -71,6 +72,10 @@ def test_no_uncertainty_reads_as_a_plain_number_without_a_warning():
         assert pdg(0.899756, math.inf) == "0.8998"
     assert plain(math.nan) == "–" and plain(math.inf) == "∞" and plain(0.0) == "0"
     assert plain(1278.26) == "1278" and plain(1.2e-7) == "1.200×10⁻⁷"
+    # a value that rounds up into the next decade keeps four significant digits, and a
+    # NaN of another float type reads as one
+    assert plain(0.099996) == "0.1000" and plain(-9.99996) == "-10.00"
+    assert plain(np.float32("nan")) == "–" and plain(np.float32(2.5)) == "2.500"
 
 
 def test_units_a_person_reads():
