@@ -29,8 +29,9 @@ file, and the fit reads them back one chunk (:data:`CHUNK` records) at a time:
   Dataset with them) — about 22 kB for a record of 850 samples on two channels;
 - the arrays derived from these (each channel's baseline basis, the filter's fine grid)
   are rebuilt when a chunk is read, by the functions :func:`pipeline.fit.forward.prepare`
-  uses, so a record read back gives the same residuals, bit for bit; reading one back
-  costs ~0.2 ms.
+  uses, so a record read back gives the same residuals, bit for bit (the fine grid is
+  kept as it is where every channel has samples left out, and so cannot give it back);
+  reading one back costs ~0.2 ms.
 
 Beside the file, per record, the few numbers a joint fit's design needs without the samples
 (:class:`RecordSummary`: the nominal parameters, m*, R*, cos α, v_t0, the contact's start
@@ -52,7 +53,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .forward import Channel, RecordData, baseline_basis
+from .forward import Channel, RecordData, baseline_basis, fine_grid
 
 __all__ = ["RecordStore", "RecordSummary", "pack", "unpack", "load_chunk", "CHUNK"]
 
@@ -81,12 +82,21 @@ def pack(data: RecordData) -> dict:
             }
         )
     state["channels"] = chans
-    fine = data.fine  # the grid the channels index (samples left out leave gaps in theirs)
-    if fine is not None:
-        step = (fine[-1] - fine[0]) / (fine.size - 1) if fine.size > 1 else 1.0
-        fine = (fine[0], step, fine.size)
-    state["fine"] = fine
+    state["fine"] = _fine_source(data)
     return state
+
+
+def _fine_source(data: RecordData):
+    """Where :func:`unpack` finds the filter's fine grid: ``("channel", i)``, rebuilt from
+    channel i's instants (one with none left out: they are the common grid the fine grid
+    was made from, and the same arithmetic gives it bit for bit), or ``("array", fine)``
+    where every channel has samples left out; None without a fine grid."""
+    if data.fine is None:
+        return None
+    for i, c in enumerate(data.channels):
+        if np.array_equal(fine_grid(c.t, data.oversample)[0], data.fine):
+            return ("channel", i)
+    return ("array", data.fine)
 
 
 def unpack(state: dict) -> RecordData:
@@ -103,8 +113,10 @@ def unpack(state: dict) -> RecordData:
         chans.append(Channel(**{**c, "basis": basis}))
     state["channels"] = tuple(chans)
     if state["fine"] is not None:
-        start, h, size = state["fine"]
-        state["fine"] = start + np.arange(size) * h
+        how, what = state["fine"]
+        if how == "channel":  # rebuilt as prepare built it, from the channel's instants
+            what = fine_grid(state["channels"][what].t, state["oversample"])[0]
+        state["fine"] = what
     return RecordData(**state)
 
 
