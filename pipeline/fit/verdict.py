@@ -32,13 +32,13 @@ cause                 found by                                           warning
 ``second_impact``     the window saw a later pulse (a rebound strike)    MultipleImpactWarning
                                                                          (by the window)
 ``sensor_dynamics``   the record shows a transducer mode, a discharge    SensorDynamicsWarning
-                      or a zero shift the sensor's description does not
-                      state, and the fit models it
-                      (:mod:`pipeline.fit.dynamics`): not a misfit, but
-                      said, with what was fitted
-``spikes``            isolated samples no force history can make (the   SpikeWarning
+                      or a zero shift the sensor's description does
+                      not state, and the fit models it
+                      (:mod:`pipeline.fit.dynamics`): not a misfit,
+                      but said, with what was fitted
+``spikes``            isolated samples no force history can make (the    SpikeWarning
                       window's :func:`pipeline.window.find_spikes`),
-                      left out of the fit (:attr:`ContactFit.excluded`)
+                      left out of the fit (``ContactFit.excluded``)
 ====================  =================================================  =====================
 
 ``ok`` is True when the misfit test passes and no cause but ``coloured_noise``,
