@@ -160,35 +160,9 @@ def resolve_force(
         for a column already in a force unit.
     """
     known = f"{', '.join(FORCE_UNITS)} (or {', '.join(list(VOLT_UNITS)[:3])} with a sensitivity)"
-    if given is not None and signal_factor(given) is None:
-        raise InputError(f"force_unit={given!r} is not a force unit; use one of {known}", path=path)
-    if found is not None:
-        sig = signal_factor(found)
-        if sig is None:
-            raise InputError(
-                f"unit {found!r} is not a force unit; use one of {known}",
-                path=path,
-                line=line,
-                column=column,
-            )
-        if given is not None and signal_factor(given) != sig:
-            raise InputError(
-                f"the file gives force in {found!r} but force_unit={given!r} was passed; "
-                "drop force_unit (units in the file win) or correct the file",
-                path=path,
-                line=line,
-                column=column,
-            )
-        unit = found
-    elif given is None:
-        raise InputError(
-            f"no force unit in the file; give force_unit= (one of {known})",
-            path=path,
-            line=line,
-            column=column,
-        )
-    else:
-        unit, sig = given, signal_factor(given)
+    sig, unit = _pick(
+        "force", found, given, signal_factor, known, path=path, column=column, line=line
+    )
     factor, kind = sig
     who = f"{channel} (column {column!r})" if channel and column else repr(column or channel)
     if kind == "volt":
@@ -245,38 +219,51 @@ def resolve_unit(
         file's unit and the argument.
     """
     factor_of = time_factor if kind == "time" else force_factor
-    known = TIME_UNITS if kind == "time" else FORCE_UNITS
+    known = ", ".join(TIME_UNITS if kind == "time" else FORCE_UNITS)
+    return _pick(
+        kind,
+        found,
+        given,
+        factor_of,
+        known,
+        where=" in the column header",
+        path=path,
+        column=column,
+        line=line,
+        hint=hint,
+    )
+
+
+def _pick(kind, found, given, factor_of, known: str, *, path, column, line, hint="", where=""):
+    """``(factor_of(unit), unit)`` of the unit the file states (``found``) or the argument
+    (``given``), as :func:`resolve_unit` says; ``known`` lists the accepted units, ``where``
+    says where the file states them."""
     arg = f"{kind}_unit"
-    if given is not None:
-        if not isinstance(given, str) or factor_of(given) is None:
-            raise InputError(
-                f"{arg}={given!r} is not a {kind} unit; use one of {', '.join(known)}",
-                path=path,
-            )
-    if found is not None:
-        f = factor_of(found)
-        if f is None:
-            raise InputError(
-                f"unit {found!r} is not a {kind} unit; use one of {', '.join(known)} "
-                "in the column header",
-                path=path,
-                line=line,
-                column=column,
-            )
-        if given is not None and factor_of(given) != f:
-            raise InputError(
-                f"the file gives {kind} in {found!r} but {arg}={given!r} was passed; "
-                f"drop {arg} (units in the file win) or correct the file",
-                path=path,
-                line=line,
-                column=column,
-            )
-        return f, found
-    if given is None:
+    if given is not None and (not isinstance(given, str) or factor_of(given) is None):
+        raise InputError(f"{arg}={given!r} is not a {kind} unit; use one of {known}", path=path)
+    if found is None and given is None:
         raise InputError(
-            f"no {kind} unit in the file; give {arg}= (one of {', '.join(known)}){hint}",
+            f"no {kind} unit in the file; give {arg}= (one of {known}){hint}",
             path=path,
             line=line,
             column=column,
         )
-    return factor_of(given), given
+    if found is None:
+        return factor_of(given), given
+    f = factor_of(found)
+    if f is None:
+        raise InputError(
+            f"unit {found!r} is not a {kind} unit; use one of {known}{where}",
+            path=path,
+            line=line,
+            column=column,
+        )
+    if given is not None and factor_of(given) != f:
+        raise InputError(
+            f"the file gives {kind} in {found!r} but {arg}={given!r} was passed; "
+            f"drop {arg} (units in the file win) or correct the file",
+            path=path,
+            line=line,
+            column=column,
+        )
+    return f, found
