@@ -413,6 +413,28 @@ def test_a_campaigns_workers_build_an_outcome_table_once(tmp_path, monkeypatch):
     assert len(list(tmp_path.glob("outcome-table-*.npz"))) == 1
 
 
+@pytest.mark.slow
+def test_a_local_cluster_stops_quietly_after_a_good_run(caplog):
+    """A worker that does not exit when asked (a thread a library left running) is killed
+    by its nanny after 4 s: its work was returned, and the nanny's WARNING about it is not
+    the last line a good campaign prints (pipeline.campaigns.run.connect)."""
+    pytest.importorskip("distributed")
+    import logging
+
+    from pipeline.campaigns.run import connect
+
+    def hold_the_exit():
+        import threading
+
+        threading.Thread(target=threading.Event().wait).start()  # never set: no exit
+        return True
+
+    with caplog.at_level(logging.INFO, logger="distributed"), connect(workers=1) as client:
+        assert list(client.run(hold_the_exit).values()) == [True]
+    killed = [r for r in caplog.records if "still alive" in r.getMessage()]
+    assert [r.levelname for r in killed] == []
+
+
 def test_batched_path_gives_the_same_values_and_comparable_spreads(lab):
     """The batched path's values are analyse's exactly; its bootstrap draws differ, so the
     spreads agree to their own scatter (±5 % for 200 replicates) plus the trapezoid rule's

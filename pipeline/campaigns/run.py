@@ -170,7 +170,22 @@ def connect(*, workers=None, scheduler=None):
             if client is not scheduler:
                 client.close()
             if cluster is not None:
-                cluster.close()
+                with _nanny_quiet():
+                    cluster.close()
+
+
+@contextlib.contextmanager
+def _nanny_quiet():
+    """The local cluster's nannies stop their workers without a word: every result was
+    returned, and a worker slow to exit (a loaded machine, a thread left running by a
+    library) is killed after 4 s with a WARNING that would be the last line of a good run."""
+    log = logging.getLogger("distributed.nanny")
+    level = log.level
+    log.setLevel(logging.ERROR)
+    try:
+        yield
+    finally:
+        log.setLevel(level)
 
 
 def _quiet():
