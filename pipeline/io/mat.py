@@ -28,8 +28,9 @@ as groups, ``MATLAB_empty``. Cell arrays, sparse matrices, complex and logical a
 struct arrays and objects (``string``, ``datetime``, tables) are listed by
 :func:`mat_variables` but hold no record: using one is an :class:`InputError` that says
 what it is. The record's attributes keep the MATLAB header text (``meta_header``), the
-version (``mat_version``), the struct or array used (``mat_variable``) and the variables
-left out (``ignored_columns``).
+version (``mat_version``), the struct or array used (``mat_variable``), the vectors no
+channel reads (``ignored_columns``) and the variables that are no vector
+(``ignored_variables``: a char, a cell array...).
 """
 
 from __future__ import annotations
