@@ -278,3 +278,28 @@ def test_log_warnings_only_the_pipelines_own_are_warnings(caplog):
         ("INFO", "ResourceWarning: unclosed <socket.socket fd=12>"),
         ("WARNING", "PoorFitWarning: Fn: the quartic misses structure"),
     ]
+
+
+def test_record_options_travel_as_json_with_absolute_paths(tmp_path, monkeypatch):
+    """The record options a campaign's manifest and a report's parameters cell keep are
+    JSON, the decoupling matrix's path absolute (a notebook run from elsewhere, a worker
+    in another folder read the same file); options not given are left to the sidecar."""
+    import argparse
+
+    from pipeline.cli._common import load_options
+
+    monkeypatch.chdir(tmp_path)
+    args = argparse.Namespace(
+        time_unit=None,
+        force_unit="N",
+        axes=None,
+        decouple=Path("rig/matrix.json"),
+        sensitivity={"Ft": [0.5, "mV/N"]},
+    )
+    got = load_options(args)
+    assert got == {
+        "force_unit": "N",
+        "decouple": str((tmp_path / "rig" / "matrix.json").resolve()),
+        "sensitivity": {"Ft": [0.5, "mV/N"]},
+    }
+    assert json.loads(json.dumps(got)) == got

@@ -129,10 +129,11 @@ LOAD_OPTIONS = ("time_unit", "force_unit", "axes", "decouple", "sensitivity")
 
 def load_options(args) -> dict:
     """The :data:`LOAD_OPTIONS` given on the command line (the sidecar supplies the rest),
-    as JSON values (a manifest and a report's parameters cell hold them)."""
+    as JSON values (a manifest and a report's parameters cell hold them; a path made
+    absolute, for a notebook run from elsewhere and a worker)."""
     given = {k: v for k in LOAD_OPTIONS if (v := getattr(args, k, None)) is not None}
     if "decouple" in given:
-        given["decouple"] = str(given["decouple"])
+        given["decouple"] = str(Path(given["decouple"]).resolve())
     return given
 
 

@@ -122,9 +122,7 @@ def run_campaign(args) -> int:
         if overview is not None:
             # after the reports: each record's point links its report where there is one
             write_overview(ds, overview, reports=stage / "reports")
-        write_manifest(
-            stage, paths=list(args.paths), n_boot=args.boot, seed=args.seed, load=load
-        )
+        write_manifest(stage, paths=list(args.paths), n_boot=args.boot, seed=args.seed, load=load)
     ok = int((ds["status"] == "ok").sum())
     print(
         f"{ok}/{ds.sizes['record']} records analysed in {time.perf_counter() - t0:.1f} s "
