@@ -233,3 +233,8 @@ def test_the_rigid_candidate_draws_and_exports_without_a_force_history():
     assert not any(str(g).startswith(("true-", "rigid-")) for g in gids)
     ds = fit.to_dataset()
     assert {"Fn_model", "Ft_model"} <= set(ds) and not {"Fn_true", "Ft_rigid"} & set(ds)
+    # its μ, barely determined (0.02 ± 0.02), has its interval cut at 0 where μ ends, and
+    # both tables say so (docs/uncertainty.md)
+    assert fit.ci()["mu"][0] == 0.0 == sel.averaged.ci()["mu"][0]
+    for table in (fit.table(), sel.averaged.table()):
+        assert any(d.startswith("μ's interval ends at 0,") for d in table.attrs["details"])

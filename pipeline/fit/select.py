@@ -63,7 +63,7 @@ from ..errors import InputError, PipelineWarning
 from ..precision import model_words
 from .contact import DEFAULT_VARY, ContactFit, fit_contact, fit_model
 from .forward import _I, ANALYTIC, SYSTEMATIC_PARAMS, ForwardModel, RecordData, weighted_residuals
-from .result import in_domain, kind_of
+from .result import _cut_words, in_domain, kind_of
 from .verdict import akaike_weights
 
 __all__ = [
@@ -272,7 +272,7 @@ class AveragedFit:
             rows,
             {r["name"]: budget[r["name"]] for r in rows if r["name"] in budget},
             verdict=f"{text} Averaged over the laws by their Akaike weights ({weights}).",
-            details=details,
+            details=[*details, *_cut_words(rows)],
             level=level,
         )
         return precision.styled(df) if style else df
