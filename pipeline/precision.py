@@ -189,9 +189,13 @@ def hypothesis_words(mu_law: str, damping: str, normal=None) -> str:
     return f"{HYPOTHESIS_WORDS.get(mu_law, mu_law)}, {words}"
 
 
-def model_words(name) -> str:
+def model_words(name, tangential=None) -> str:
     """A model's (or any result's) name as a reader reads it: ``"hunt_crossley"`` →
-    ``"Hunt–Crossley"``; None (no compliant law) → ``"rigid"``."""
+    ``"Hunt–Crossley"``; None (no compliant law) → ``"rigid"``. With ``tangential``, a
+    contact model, its normal law and tangential model: ``"Hunt–Crossley + Mindlin"``
+    (the rigid model: ``"rigid"``)."""
+    if tangential is not None:
+        return "rigid" if name is None else f"{model_words(name)} + {model_words(tangential)}"
     if name is None:
         return "rigid"
     return MODEL_WORDS.get(name, str(name).replace("_", " "))

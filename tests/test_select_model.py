@@ -231,6 +231,7 @@ def test_the_rigid_candidate_draws_and_exports_without_a_force_history():
     gids = {line.get_gid() for ax in fig.axes for line in ax.lines}
     assert {"measured-Fn", "model-Fn", "measured-Ft", "model-Ft"} <= gids
     assert not any(str(g).startswith(("true-", "rigid-")) for g in gids)
+    assert fig.legends[0].get_title().get_text().startswith("rigid: $")  # not "rigid + rigid"
     ds = fit.to_dataset()
     assert {"Fn_model", "Ft_model"} <= set(ds) and not {"Fn_true", "Ft_rigid"} & set(ds)
     # its μ, barely determined (0.02 ± 0.02), has its interval cut at 0 where μ ends, and

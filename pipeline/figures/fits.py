@@ -127,7 +127,7 @@ def _legend_title(fit) -> str:
     line: the figure is one column wide)."""
     from ..precision import model_words, plain
 
-    model = f"{model_words(fit.normal)} + {model_words(fit.tangential)}"
+    model = model_words(fit.normal, fit.tangential)
     table = fit.table()
     parts = []
     for name, row in table.iterrows():

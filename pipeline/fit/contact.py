@@ -379,7 +379,7 @@ class ContactFit(FitResult):
         v = self.verdict
         if v is None:
             return super()._verdict_words()
-        model = f"{model_words(self.normal)} + {model_words(self.tangential)}"
+        model = model_words(self.normal, self.tangential)
         redchi = self.misfit.redchi if self.misfit is not None else self.redchi
         causes = list(v["causes"])
         said = [_CAUSE_WORDS.get(c, model_words(c)) for c in causes]
