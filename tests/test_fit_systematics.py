@@ -305,6 +305,37 @@ def test_a_filter_of_another_order_is_named_where_the_filter_shapes_the_pulse():
         assert all(holds(fit, {"E_eff": float(sc.E_eff), "e": 0.9}).values())
 
 
+@pytest.mark.parametrize("order", [1, 2])
+@pytest.mark.parametrize("wt", [1e-3, 0.05, 0.5, 3.0])
+def test_the_closed_form_hold_filter_is_exact_for_a_ramp(order, wt):
+    """The filter a fit with the cut-off among its parameters builds every evaluation
+    (pipeline.fit.sensor.foh_butterworth, closed form): a first-order hold is exact for
+    inputs linear between samples, so the sampled ramp t comes out as the analogue ramp
+    response at the samples — order 1: t − (1 − e^{−ωt})/ω; order 2 (ζ = 1/√2):
+    t − (√2/ω)(1 − e^{−ωt/√2}·cos(ωt/√2)) (Laplace, partial fractions) — to 1e-9 of the
+    ramp's span (the recursion's rounding grows as the poles near z = 1 at small ω·T), for
+    ω·T from 1e-3 to 3; and it equals the state-space route
+    (pipeline.sensor_model.butterworth_sos: scipy's cont2discrete) to 1e-13."""
+    from scipy.signal import lfilter
+
+    from pipeline.fit.sensor import foh_butterworth
+    from pipeline.sensor_model import butterworth_sos
+
+    bw = 3e5
+    w = 2 * math.pi * bw
+    dt = wt / w
+    t = dt * np.arange(2000)
+    sos = foh_butterworth(order, bw, dt)
+    y = lfilter(sos[0, :3], sos[0, 3:], t)
+    if order == 1:
+        exact = t - (1.0 - np.exp(-w * t)) / w
+    else:
+        s = w / math.sqrt(2.0)
+        exact = t - math.sqrt(2.0) / w * (1.0 - np.exp(-s * t) * np.cos(s * t))
+    np.testing.assert_allclose(y, exact, rtol=0, atol=1e-9 * t[-1])
+    np.testing.assert_allclose(sos, butterworth_sos(order, bw, dt), rtol=0, atol=1e-13)
+
+
 # ------------------------------------------------------------------ noise
 def _ar1(n, phi, sigma, rng):
     e = rng.normal(0.0, sigma * math.sqrt(1 - phi * phi), n)

@@ -37,10 +37,7 @@ from ..smooth import (  # noqa: F401  (backward-compatible names of pipeline.smo
     fit_window,
     runs_test,
 )
-from .campaign import CampaignFit, fit_campaign
 from .contact import ContactFit, fit_contact
-from .outcomes import OutcomeFit, fit_outcomes
-from .select import ModelSelection, select_model
 from .sensor import CrossTalkWarning, SensorSpec
 
 __all__ = [
@@ -55,3 +52,17 @@ __all__ = [
     "OutcomeFit",
     "fit_outcomes",
 ]
+
+
+def __getattr__(name):
+    # The campaign fit, the model ladder and the outcome fit load on first use: a fit of one
+    # record (a fresh process's first fit among them) does without their imports.
+    if name in ("CampaignFit", "fit_campaign"):
+        from . import campaign as module
+    elif name in ("ModelSelection", "select_model"):
+        from . import select as module
+    elif name in ("OutcomeFit", "fit_outcomes"):
+        from . import outcomes as module
+    else:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    return getattr(module, name)

@@ -179,6 +179,8 @@ class SensorSpec:
 
 @functools.lru_cache(maxsize=64)
 def _sos(order, bandwidth, dt):
+    if order in (1, 2):
+        return foh_butterworth(order, bandwidth, dt)
     return butterworth_sos(order, bandwidth, dt)
 
 
@@ -199,6 +201,56 @@ def _chain(order, bandwidth, resonance, zeta, discharge, dt):
             return None
         return _Sos(_sos(order, bandwidth, dt))
     return foh_filter(*sensor_zpk(bandwidth, order, resonance, zeta, discharge), dt)
+
+
+def foh_butterworth(order: int, bandwidth: float, dt: float) -> np.ndarray:
+    r"""The Butterworth low-pass of order 1 or 2 and cut-off ``bandwidth`` [Hz] discretised
+    at step ``dt`` [s] for inputs linear between samples (first-order hold), as one
+    second-order section [-]: :func:`pipeline.sensor_model.butterworth_sos` in closed form.
+
+    A fit with the cut-off among its parameters needs the filter at a new bandwidth every
+    evaluation; the state-space route takes about a millisecond, this some microseconds.
+
+    Notes
+    -----
+    With the poles p of H(s) = Σ r/(s − p) (ω_c·e^{±i3π/4} for order 2, −ω_c for order 1),
+    the hold equivalent is, term by term (Franklin, Powell & Workman 1998, §6.3.2),
+
+    .. math::
+
+        H(z) = \sum_p \Big(-rac{r}{p} + rac{r\,(q - 1)}{p^2 T}\,
+        rac{1 - z^{-1}}{1 - q z^{-1}}\Big), \qquad q = e^{pT},
+
+    which for a conjugate pair adds up to one biquad over 1 − 2 Re q·z⁻¹ + |q|²·z⁻².
+
+    References
+    ----------
+    G. F. Franklin, J. D. Powell, M. Workman, *Digital Control of Dynamic Systems*, 3rd
+    ed., Addison-Wesley (1998).
+    """
+    wc = 2.0 * math.pi * float(bandwidth)
+    if order == 1:  # H = ω_c/(s + ω_c): r = ω_c, p = −ω_c
+        x = -wc * dt
+        q = math.exp(x)
+        c = -math.expm1(x) / x  # r·(q − 1)/(p²T), r/(p²T) = 1/(ω_c·T) = −1/x
+        d = 1.0  # −r/p
+        return np.array([[d + c, -(d * q + c), 0.0, 1.0, -q, 0.0]])
+    if order != 2:
+        raise ValueError(f"closed form for orders 1 and 2, got {order}")
+    p = wc * complex(-math.sqrt(0.5), math.sqrt(0.5))  # the upper pole
+    r = wc * wc / (p - p.conjugate())  # H = ω_c²/((s − p)(s − p̄))
+    x = p * dt
+    # expm1 of a complex argument without cancellation: e^a·cos b − 1 + i·e^a·sin b
+    em1 = complex(
+        math.expm1(x.real) * math.cos(x.imag) - 2.0 * math.sin(0.5 * x.imag) ** 2,
+        math.exp(x.real) * math.sin(x.imag),
+    )
+    q = em1 + 1.0
+    c = r * em1 / (p * p * dt)
+    d = 2.0 * (-r / p).real
+    a1, a2 = -2.0 * q.real, abs(q) ** 2
+    n0, n2 = 2.0 * c.real, 2.0 * (c * q.conjugate()).real
+    return np.array([[d + n0, d * a1 - n2 - n0, d * a2 + n2, 1.0, a1, a2]])
 
 
 def _num(value, name, src):
