@@ -38,6 +38,7 @@ __all__ = [
     "KINDS",
     "FORCE_RANGE",
     "TIME_RANGE",
+    "TIME_RESOLUTION",
 ]
 
 FORCE_CHANNELS = ("Fn", "Ft", "Fy")
