@@ -8,10 +8,10 @@ friction law, :func:`pipeline.campaigns.trends`), and the deviation from rigid t
 dimensionless maximum distance of Pt(Pn) from Routh's broken line, :mod:`pipeline.score`)
 against the incidence. Hovering a point names the record and gives its values rounded to
 their uncertainty (:mod:`pipeline.precision`); clicking it opens the record's report
-(``reports/<stem>.html``, written by ``pipeline campaign``) in a new tab; selecting points
-in one panel (a click, or shift-click for several) highlights the same records in the
-others. A record that failed is listed under the panels with its reason, and a record that
-lacks a panel's value is named under that panel: no record is dropped silently.
+(``reports/<stem>.html``, written by ``pipeline campaign``) in a new tab and marks the
+record in all three panels (they share one data source). A record that failed is listed
+under the panels with its reason, and a record that lacks a panel's value is named under
+that panel: no record is dropped silently.
 
 The page is one self-contained HTML file: the plotting library's JavaScript (BokehJS) is
 inlined, so it opens from the disk with no server and no network, moved or copied with the
