@@ -314,15 +314,14 @@ class Analysis:
             pm = pdg(o.values[k], o.std[k])
             lines.append(f"{label:14s}{pm:>22s}{plain(rigid[k]):>12s}")
         lines.append("")
-        lines.append(
-            f"deviation from the rigid line ({self.score.source} percussions, "
-            f"± bootstrap std of {self.score.n_boot}):"
-        )
+        n = self.score.n_boot
+        spread = f"± the std of {n} bootstrap replicates" if n else "no bootstrap"
+        lines.append(f"deviation from the rigid line ({self.score.source} percussions, {spread}):")
         for phase in ("total", "compression", "restitution"):
             parts = []
             for m in ("area", "max_distance"):
                 v, s = self.score.values[phase][m], self.score.std[phase][m]
-                parts.append(f"{m} {pdg(v, s) if np.isfinite(s) else f'{v:.3f}'}")
+                parts.append(f"{m} {pdg(v, s)}")
             lines.append(f"  {phase:12s}" + ", ".join(parts))
         return "\n".join(lines)
 

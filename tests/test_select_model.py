@@ -16,6 +16,7 @@ from pathlib import Path
 
 import pytest
 from _rig import GR_RIG as GR
+from _shown import states
 
 from pipeline import Scene, analyse, select_model
 from pipeline.errors import InputError, PipelineWarning
@@ -153,6 +154,16 @@ def test_cli_analyse_mu_and_e(capsys):
     out = json.loads(capsys.readouterr().out)
     assert out["rigid_scene"]["mu"] == 0.2 and out["rigid_scene"]["e"] == 0.8
     assert out["rigid_scene_sources"] == {"mu": "given", "e": "given"}
+    # in words: without a bootstrap the deviation has no ±, its numbers at four digits
+    assert main(["analyse", str(MAIN), "--boot", "0", "--mu", "0.2", "--e", "0.8"]) == 0
+    text = capsys.readouterr().out
+    assert "percussions, no bootstrap):" in text
+    total = re.search(r"total +area (\S+), max_distance (\S+)", text)
+    summary = out["score"]["total"]
+    assert total and all(
+        states(shown, summary[m]["value"]) and len(shown.replace(".", "").lstrip("0")) == 4
+        for shown, m in zip(total.groups(), ("area", "max_distance"), strict=True)
+    ), total
     with pytest.raises(SystemExit):
         main(["analyse", str(MAIN), "--mu", "slippery"])
     assert "neither a number nor one of" in capsys.readouterr().err
