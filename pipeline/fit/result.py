@@ -121,14 +121,15 @@ def _misfit_words(m, records=()) -> list:
     return out or list(m.reasons)
 
 
-def _cut_words(rows) -> list:
-    """What :meth:`FitResult.table` says of the intervals that end at their domain's end."""
+def _cut_words(rows, normal=None) -> list:
+    """What :meth:`FitResult.table` says of the intervals that end at their domain's end
+    (``normal``: the fit's law, which names a campaign's ``alpha``)."""
     out = []
     for r in rows:
         d_lo, d_hi = DOMAINS.get(base_name(r["name"]), (-math.inf, math.inf))
         lo, hi = r.get("ci") or (math.nan, math.nan)
         if r.get("status", "fitted") == "fitted" and (lo == d_lo or hi == d_hi):
-            sym = precision.quantity(r["name"]).symbol
+            sym = precision.quantity(precision.reads_as(r["name"], normal)).symbol
             end = f"{d_hi if hi == d_hi else d_lo:g}"
             out.append(
                 f"{sym}'s interval ends at {end}, the end of the values {sym} can take: an "
@@ -454,7 +455,7 @@ class FitResult:
         rows += self._derived_rows(level)
         rows.sort(key=lambda r: r["kind"] != "contact")  # the physical parameters first
         verdict, details = self._verdict_words()
-        details = list(details) + _cut_words(rows)
+        details = list(details) + _cut_words(rows, self._normal_law)
         df = precision.parameter_table(
             rows,
             {r["name"]: budget[r["name"]] for r in rows if r["name"] in budget},

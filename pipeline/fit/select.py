@@ -272,7 +272,7 @@ class AveragedFit:
             rows,
             {r["name"]: budget[r["name"]] for r in rows if r["name"] in budget},
             verdict=f"{text} Averaged over the laws by their Akaike weights ({weights}).",
-            details=[*details, *_cut_words(rows)],
+            details=[*details, *_cut_words(rows, self.fit.normal)],
             level=level,
         )
         return precision.styled(df) if style else df
