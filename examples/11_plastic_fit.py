@@ -45,16 +45,12 @@ print(f"e fitted {default.values['e']:.3f}, the impulse says "
 
 # %%
 # Thornton's law fits, and reports the yield pressure and speed it implies, with their
-# intervals, beside E* and e.
+# intervals, beside E* and e (``fit.table()``: each rounded to its uncertainty, in GPa and
+# m/s; every digit in ``fit.values`` and ``fit.ci()``).
 
 fit = fit_contact(record, told, normal="thornton", tangential="none", n_boot=50)
-ci = fit.ci()
 print(fit.verdict["ok"], fit.verdict["causes"])
-for name, scale, unit in (("E_eff", 1e9, "GPa"), ("e", 1, ""), ("p_y", 1e9, "GPa"),
-                          ("v_y", 1, "m/s")):  # fmt: skip
-    lo, hi = ci[name]
-    v = fit.values[name]
-    print(f"{name:>5} = {v / scale:.4g} {unit}  [{lo / scale:.4g}, {hi / scale:.4g}]")
+print(fit.table()[["quantity", "value", "unit", "95 % interval"]].to_string())
 
 # %%
 # Before any data: a scene that states its yield strengths gets the speed of first yield
