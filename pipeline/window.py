@@ -999,7 +999,10 @@ def _choose(runs, r, sigma, kk, src) -> _Found | None:
         and run not in ringing
         and (r[run.peak] >= MINOR_PULSE * top or run.size >= 0.5 * main.size)
     ]
-    a, b, split = main.a, main.b, _dip(r, main, sigma, kk)
+    # a ring after the pulse is the sensor's mode, which modulates the pulse too: its dips
+    # are the mode's, not a second impact's
+    after = [run for run in ringing if run.a > main.b]
+    a, b, split = main.a, main.b, None if after else _dip(r, main, sigma, kk)
     if split is not None:
         rest = _Run(split, main.b, 1, split + int(np.argmax(r[split : main.b + 1])), 0)
         others.insert(0, rest)
@@ -1016,13 +1019,25 @@ def _ringing(runs, r, main_size) -> list:
     """The excursions that are lobes of a ring — the sensor's mode after the pulse, not
     another impact: three or more lobes of alternating sign, each adjoining the next
     (within the longer one's length, or three samples) and each at least
-    :data:`RING_FRACTION` of its neighbour; those shorter than the contact pulse (a later
-    impact lasts longer than the first, t_c ∝ v^(-1/5))."""
+    :data:`RING_FRACTION` of its neighbour, and the lobes that follow within a period of
+    it no larger than its last (where one between sank into the noise); those shorter
+    than the contact pulse (a later impact lasts longer than the first, t_c ∝ v^(-1/5))."""
     out, chain = [], runs[:1]
 
     def close(chain):
         if len(chain) >= 3:
             out.extend(run for run in chain if run.size < main_size)
+
+    def continues(chain, run):
+        """A lobe of the ring past a lobe that sank into the noise: within a period of the
+        ring's last, no larger than its last lobes, shorter than the pulse."""
+        period = 2.0 * (chain[-1].a - chain[0].a) / (len(chain) - 1)
+        top = max(abs(r[x.peak]) for x in chain[-2:])
+        return (
+            run.a - chain[-1].b <= period
+            and abs(r[run.peak]) <= 1.5 * top
+            and run.size < main_size
+        )
 
     for prev, run in zip(runs, runs[1:], strict=False):
         a, b = abs(r[prev.peak]), abs(r[run.peak])
@@ -1031,7 +1046,7 @@ def _ringing(runs, r, main_size) -> list:
             and run.a - prev.b <= max(prev.size, run.size, 3)
             and min(a, b) >= RING_FRACTION * max(a, b)
         )
-        if linked:
+        if linked or (len(chain) >= 3 and continues(chain, run)):
             chain.append(run)
         else:
             close(chain)

@@ -842,7 +842,17 @@ def _with_dynamics(fit, findings, record, scene, model, vary, t_begin, opts) -> 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", PipelineWarning)
         try:
-            alt = _fit_model(record, scene, model, vary, t_begin, {**opts, **extra}, None, found)
+            # the contact first, the dynamics held where the screen found them; then all
+            # free from there (a ring of the pulse's own frequency leaves the joint
+            # problem many local optima from the first fit's start)
+            held = {**opts, **extra, "n_boot": 0, "systematics": {}}
+            first = _fit_model(record, scene, model, vary, t_begin, held, None, None)
+            warm = {n: float(v) for n, v in zip(first.names, first.theta, strict=True)}
+            warm = {n: warm[n] for n in (*vary, *SHIFT_PARAMS) if n in warm}
+            start = {**warm, **(opts.get("start") or {})}
+            alt = _fit_model(
+                record, scene, model, vary, t_begin, {**opts, **extra, "start": start}, None, found
+            )
         except (InputError, np.linalg.LinAlgError):
             return fit
     base_aic = _aic_on(fit, alt, record, scene, model, opts)
