@@ -842,17 +842,20 @@ def _with_dynamics(fit, findings, record, scene, model, vary, t_begin, opts) -> 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", PipelineWarning)
         try:
-            # the contact first, the dynamics held where the screen found them; then all
-            # free from there (a ring of the pulse's own frequency leaves the joint
-            # problem many local optima from the first fit's start)
-            held = {**opts, **extra, "n_boot": 0, "systematics": {}}
-            first = _fit_model(record, scene, model, vary, t_begin, held, None, None)
-            warm = {n: float(v) for n, v in zip(first.names, first.theta, strict=True)}
-            warm = {n: warm[n] for n in (*vary, *SHIFT_PARAMS) if n in warm}
-            start = {**warm, **(opts.get("start") or {})}
-            alt = _fit_model(
-                record, scene, model, vary, t_begin, {**opts, **extra, "start": start}, None, found
-            )
+            alt = _fit_model(record, scene, model, vary, t_begin, {**opts, **extra}, None, found)
+            if findings.mode is not None:
+                # a ring of the pulse's own frequency leaves the joint problem many local
+                # optima: also started from the contact fitted with the mode held, the
+                # better of the two kept
+                held = {**opts, **extra, "n_boot": 0, "systematics": {}}
+                first = _fit_model(record, scene, model, vary, t_begin, held, None, None)
+                warm = dict(zip(first.names, map(float, first.theta), strict=True))
+                start = {**{n: warm[n] for n in vary if n in warm}, **(opts.get("start") or {})}
+                other = _fit_model(
+                    record, scene, model, vary, t_begin, {**opts, **extra, "start": start},
+                    None, found,
+                )  # fmt: skip
+                alt = min(alt, other, key=lambda f: f.aic)
         except (InputError, np.linalg.LinAlgError):
             return fit
     base_aic = _aic_on(fit, alt, record, scene, model, opts)
