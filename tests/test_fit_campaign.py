@@ -186,10 +186,11 @@ def test_block_covariance_is_the_inverse_of_the_dense_normal_matrix():
 
 
 def test_the_joint_fit_reads_a_lazy_sequence_once_and_keeps_no_record(constant_e):
-    """Records given as a lazy sequence are each read once (a campaign of many records
-    never holds them all), the fit is the one of the same records in a list (to 1e-6 of a
-    standard error: the same arithmetic), and once it is made no prepared record and no
-    contact window stays in memory: the fit reads its records back from its store."""
+    """Records given as a lazy sequence, or as files read by ``load``, are each read once
+    (a campaign of many records never holds them all), the fit is the one of the same
+    records in a list (to 1e-6 of a standard error: the same arithmetic), and once it is
+    made no prepared record and no contact window stays in memory: the fit reads its
+    records back from its store."""
     from collections.abc import Sequence
 
     blocks, scenes, recs = constant_e
@@ -213,9 +214,17 @@ def test_the_joint_fit_reads_a_lazy_sequence_once_and_keeps_no_record(constant_e
     gc.collect()
     assert sum(isinstance(o, (RecordData, ContactWindow)) for o in gc.get_objects()) <= alive
     assert sorted(reads) == [0, 1, 2, 3]
-    for name in ("E_eff", "e", "mu_a", "mu_b", "kt_scale_0", "t0_2"):
-        assert abs(lazy.values[name] - blocks.values[name]) < 1e-6 * blocks.stderr[name], name
-    assert len(lazy.datas) == 4 and lazy.datas[2].n_data == blocks.datas[2].n_data
+    # records named by their files, read by ``load`` where they are prepared (a worker)
+    files = {f"/lab/r{i}.csv": r for i, r in enumerate(recs)}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", PipelineWarning)
+        named = fit_campaign(list(files), scenes, mu_law="linear_vt0", hypotheses="one",
+                             load=lambda path: reads.append(path) or files[path])  # fmt: skip
+    assert reads[4:] == list(files)
+    for fit in (lazy, named):
+        for name in ("E_eff", "e", "mu_a", "mu_b", "kt_scale_0", "t0_2"):
+            assert abs(fit.values[name] - blocks.values[name]) < 1e-6 * blocks.stderr[name]
+        assert len(fit.datas) == 4 and fit.datas[2].n_data == blocks.datas[2].n_data
 
 
 def test_misfit_over_many_records_names_the_worst_channels():
@@ -238,17 +247,19 @@ def test_misfit_over_many_records_names_the_worst_channels():
 
 
 def test_the_joint_fit_in_an_executor_is_the_same_fit(constant_e):
-    """The records' chunks evaluated in an executor's workers (one record a chunk, several
-    in flight, each travelling as the store wrote it; a campaign on a cluster hands its
-    client's executor) give the same fit: every value within 1e-9 of its standard error."""
+    """The records prepared and their chunks evaluated in an executor's workers (one record
+    a chunk, several in flight, each travelling as the store wrote it; a campaign on a
+    cluster hands its client's executor) give the same fit: every value within 1e-9 of its
+    standard error."""
     from concurrent.futures import ThreadPoolExecutor
 
     class Counted(ThreadPoolExecutor):
-        jobs = 0
+        jobs = {}
 
         def submit(self, fn, *args, **kwargs):
-            Counted.jobs += 1
-            assert isinstance(args[1], bytes)  # the chunk as the store wrote it
+            Counted.jobs[fn.__name__] = Counted.jobs.get(fn.__name__, 0) + 1
+            if fn.__name__ == "_chunk":
+                assert isinstance(args[1], bytes)  # the chunk as the store wrote it
             return super().submit(fn, *args, **kwargs)
 
     blocks, scenes, recs = constant_e
@@ -260,7 +271,8 @@ def test_the_joint_fit_in_an_executor_is_the_same_fit(constant_e):
         warnings.simplefilter("ignore", PipelineWarning)
         mp.setattr(store, "CHUNK", 1)
         fit = fit_campaign(recs, scenes, mu_law="linear_vt0", hypotheses="one", executor=executor)
-    assert Counted.jobs >= 4 * fit.result.nfev  # every record at every evaluation
+    assert Counted.jobs["_prepared"] == 4  # every record prepared there, once
+    assert Counted.jobs["_chunk"] >= 4 * fit.result.nfev  # and at every evaluation
     assert fit.chi2 == pytest.approx(blocks.chi2, rel=1e-12)
     for name in ("E_eff", "e", "mu_a", "mu_b", "kt_scale_0", "t0_2"):
         assert abs(fit.values[name] - blocks.values[name]) < 1e-9 * blocks.stderr[name], name

@@ -8,8 +8,8 @@ standard errors as ``joint_<name>`` scalars and every hypothesis' row of
 :meth:`~pipeline.fit.CampaignFit.compare` in ``attrs["joint_fit_json"]``. Where the fitter is not
 installed, or fewer than two records were analysed, the Dataset is returned unchanged.
 The fit reads the records from their files one at a time and keeps them on disk
-(:mod:`pipeline.fit.store`); on a cluster its evaluations run on the workers (the
-``executor`` option of :func:`pipeline.fit_campaign`).
+(:mod:`pipeline.fit.store`); on a cluster the workers read and prepare them and run the
+fit's evaluations (the ``executor`` option of :func:`pipeline.fit_campaign`).
 """
 
 from __future__ import annotations
@@ -18,7 +18,6 @@ import json
 import logging
 import math
 import warnings
-from collections.abc import Sequence
 
 from .._json import json_ready
 from ..errors import InputError, PipelineWarning
@@ -48,13 +47,16 @@ def joint_fit(tasks, ds, **options) -> dict | None:
     ok = [t for t, s in zip(tasks, ds["status"].values, strict=True) if s == "ok"]
     if len(ok) < 2:
         return None
-    records = _Records(ok)  # read one at a time, by the fit
+    records = ok  # each read where the fit prepares it, once (read_task_record)
     scenes = [
         Scene.from_dict(json.loads(str(j)))
         for j, s in zip(ds["scene_json"].values, ds["status"].values, strict=True)
         if s == "ok"
     ]
-    fit = fit_campaign(records, scenes, mu_law="linear_vt0", damping="constant_e", **options)
+    fit = fit_campaign(
+        records, scenes, mu_law="linear_vt0", damping="constant_e", load=read_task_record,
+        **options,
+    )  # fmt: skip
     table = fit.compare()
     best = table.iloc[0]
     key = (str(best["mu_law"]), str(best["damping"]))
@@ -69,20 +71,6 @@ def joint_fit(tasks, ds, **options) -> dict | None:
             "compare": table.to_dict("records"),
         }
     )
-
-
-class _Records(Sequence):
-    """The records of tasks, each read when asked for (:func:`read_task_record`): the
-    joint fit reads each once and keeps only what it fits."""
-
-    def __init__(self, tasks):
-        self.tasks = list(tasks)
-
-    def __len__(self) -> int:
-        return len(self.tasks)
-
-    def __getitem__(self, i):
-        return read_task_record(self.tasks[i])
 
 
 def with_joint_fit(ds, tasks, **options):

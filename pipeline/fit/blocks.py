@@ -47,14 +47,13 @@ G. H. Golub, C. F. Van Loan, *Matrix Computations*, 4th ed., Johns Hopkins (2013
 
 from __future__ import annotations
 
-import collections
 from dataclasses import dataclass
 
 import numpy as np
 
 from .engine import local_jacobians
 from .procedure import misfit_part
-from .store import CHUNK, chunk_count, chunks_of, load_chunk
+from .store import CHUNK, chunk_count, chunks_of, in_order, load_chunk
 
 __all__ = ["BlockCovariance", "BlockResult", "solve_blocks", "CHUNK"]
 _TOL = 1e-6
@@ -102,28 +101,31 @@ def _moved(p, b):
         return np.where(p == b, 0.0, p - b)
 
 
+def _rows(design, theta) -> np.ndarray:
+    """Every record's local parameters at θ, (R, L)."""
+    return np.stack(design.local(theta[None, :]))[:, 0, :]
+
+
 def _dlocal(design, theta, shared, own, scale):
-    """∂P_i/∂θ for each record's columns (shared, then own), by forward differences of
-    ``design.local`` — every record's own parameters of one kind perturbed at once (each
-    moves only its own record)."""
-    base = design.local(theta[None, :])
-    R, L = len(base), base[0].shape[1]
+    """Every record's local parameters (R, L) and their derivatives ∂P_i/∂θ (R, L, p) by
+    its columns (shared, then own), by forward differences of ``design.local`` — every
+    record's own parameters of one kind perturbed at once (each moves only its own
+    record)."""
+    base = _rows(design, theta)
     p_o = own[0].size if own else 0
-    D = np.zeros((R, L, shared.size + p_o))
+    D = np.zeros(base.shape + (shared.size + p_o,))
     for j, k in enumerate(shared):
         h = 1e-7 * max(abs(theta[k]), scale[k])
         th = theta.copy()
         th[k] += h
-        for i, (b, p) in enumerate(zip(base, design.local(th[None, :]), strict=True)):
-            D[i, :, j] = _moved(p[0], b[0]) / h
+        D[:, :, j] = _moved(_rows(design, th), base) / h
     for j in range(p_o):
         ks = np.array([o[j] for o in own])
         h = 1e-7 * np.maximum(np.abs(theta[ks]), scale[ks])
         th = theta.copy()
         th[ks] += h
-        for i, (b, p) in enumerate(zip(base, design.local(th[None, :]), strict=True)):
-            D[i, :, shared.size + j] = _moved(p[0], b[0]) / h[i]
-    return [b[0] for b in base], D
+        D[:, :, shared.size + j] = _moved(_rows(design, th), base) / h[:, None]
+    return base, D
 
 
 @dataclass
@@ -145,11 +147,11 @@ def _evaluate(
     (:class:`_Evaluation`)."""
     R = len(datas)
     if jacobian:
-        Ps, D = _dlocal(design, theta, shared, own, scale)
-        active = [np.flatnonzero(np.any(D[i] != 0, axis=1)) for i in range(R)]
+        rows, D = _dlocal(design, theta, shared, own, scale)
+        moves = np.any(D != 0, axis=2)
+        active = [np.flatnonzero(m) for m in moves]
     else:
-        Ps, D, active = design.local(theta[None, :]), None, None
-    rows = np.stack([p.reshape(-1) for p in Ps])  # (R, L): each record's local parameters
+        rows, D, active = _rows(design, theta), None, None
     ps = shared.size
     jobs = (
         (
@@ -167,7 +169,7 @@ def _evaluate(
     if jacobian:
         blocks, parts = _empty_blocks(R, ps, D.shape[2] - ps), [None] * R
     a = 0
-    for c2, b, p in _mapped(executor, _chunk, jobs):
+    for c2, b, p in in_order(executor, _chunk, jobs):
         n = c2.size
         chi2[a : a + n] = c2
         if jacobian:
@@ -210,30 +212,6 @@ def _empty_blocks(n, ps, po) -> dict:
     """Room for the normal-equation blocks of ``n`` records (:class:`_Evaluation`)."""
     shapes = {"ss": (ps, ps), "sl": (ps, po), "ll": (po, po), "gs": (ps,), "gl": (po,)}
     return {k: np.empty((n,) + v) for k, v in shapes.items()}
-
-
-#: Chunks in flight at once in an executor (their records travel with them: ~1.4 MB each).
-WINDOW = 8
-
-
-def _mapped(executor, fn, jobs):
-    """``fn(*job)`` for each job, in order: here, or submitted to ``executor`` with at most
-    :data:`WINDOW` in flight."""
-    if executor is None:
-        for job in jobs:
-            yield fn(*job)
-        return
-    pending = collections.deque()
-    try:
-        for job in jobs:
-            pending.append(executor.submit(fn, *job))
-            if len(pending) >= WINDOW:
-                yield pending.popleft().result()
-        while pending:
-            yield pending.popleft().result()
-    finally:
-        for f in pending:
-            f.cancel()
 
 
 def _inverse(H, lam=0.0):

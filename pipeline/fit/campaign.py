@@ -53,19 +53,22 @@ from dataclasses import dataclass, field
 from types import SimpleNamespace
 
 import numpy as np
+import xarray as xr
 
 from .._json import json_ready
 from ..contact import NORMAL_LAWS
 from ..errors import InputError, PipelineWarning, PoorFitWarning
+from ..io import load as read_record
 from ..precision import hypothesis_words, plain
 from ..scene import Scene
+from . import store as store_module
 from .blocks import solve_blocks
 from .contact import DEFAULT_VARY, _start, e_of_alpha, fit_model
 from .engine import Design
 from .forward import ForwardModel, prepare
 from .procedure import _bounds, _rec, base_name, misfit_of, run_fit, t0_bounds
 from .result import FitResult
-from .store import RecordStore
+from .store import RecordStore, RecordSummary, in_order, pack, pack_chunk
 
 __all__ = ["CampaignFit", "fit_campaign", "MU_LAWS", "DAMPING"]
 
@@ -307,8 +310,7 @@ class CampaignFit(FitResult):
             gap = f", ΔAIC = {plain(df['delta_aic'].iloc[1], 3)} to the next" if len(df) > 1 else ""
             details = [
                 "best hypothesis by AIC: "
-                f"{hypothesis_words(best['mu_law'], best['damping'], self.model.normal)}"
-                + gap,
+                f"{hypothesis_words(best['mu_law'], best['damping'], self.model.normal)}" + gap,
                 *details,
             ]
         return text, details
@@ -443,6 +445,30 @@ def _joint(model, store, design, init, vary, executor=None) -> dict:
     )
 
 
+def _prepared(start, items, scenes, sensors, noises, model, how, starts, load) -> tuple:
+    """A chunk of records prepared (:func:`pipeline.fit.forward.prepare`), here or in an
+    executor's process: the chunk as a store writes it, its summary rows and, for
+    ``starts`` "moments" or "fits", each record's starting values. ``items``: the records,
+    or what ``load`` reads them from; ``start``: the first one's index."""
+    states, rows, singles = [], [], []
+    for i, (item, s, se, no) in enumerate(zip(items, scenes, sensors, noises, strict=True)):
+        r = item if isinstance(item, xr.Dataset) else load(item)
+        d = prepare(r, s, channels=model.channels, sensor=se, noise=no, **how)
+        if starts == "moments":
+            singles.append(_start(d, model, float(d.scene.speed)))
+        elif starts == "fits":
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", PipelineWarning)
+                vary = DEFAULT_VARY(model.normal, model.tangential)
+                single = fit_model(
+                    r, s, model, vary, sensor=se, noise=no, n_boot=0, systematics={}, **how
+                )
+            singles.append(_single_values(single))
+        rows.append(RecordSummary.row(d, str(r.attrs.get("source", f"record {start + i}"))))
+        states.append(pack(d))
+    return pack_chunk(states), rows, singles
+
+
 def _single_values(fit) -> dict:
     """A single-record fit's starting values for the joint fit: its values (the optimiser's
     for a parameter bounded only from below), standard errors and identifiability."""
@@ -508,9 +534,12 @@ def fit_campaign(
 
     Parameters
     ----------
-    records : sequence of xarray.Dataset — the records; a lazy sequence (one that reads
-        each record from its file when indexed) is read once, a record at a time, so that
-        a campaign of many records is never all in memory
+    records : sequence of xarray.Dataset, or of paths — the records, or what ``load``
+        reads them from (where they are prepared: in an ``executor``'s process if one is
+        given);
+        a lazy sequence (one that reads each record from its file when indexed) is read
+        once, a record at a time, so that a campaign of many records is never all in
+        memory
     scenes : Scene or sequence of Scene — one per record (or one for all)
     shared : sequence of str — of ``"E_eff"``, ``"kt_scale"``: one value for every record
     mu_law : {"constant", "linear_vt0"} — μ, or μ = a + b·v_t0 [b in s/m]
@@ -536,9 +565,12 @@ def fit_campaign(
         ``"dense"``: lmfit on the dense Jacobian over all records (the same optimum, its
         cost growing with the square of the records and more).
     executor : concurrent.futures.Executor, optional
-        Evaluate the records a chunk at a time in its processes (the block solver; a dask
-        ``Client.get_executor()``, as a campaign on a cluster does): the same fit, its time
-        divided among the processes.
+        Prepare the records and evaluate them a chunk at a time in its processes (the
+        block solver; a dask ``Client.get_executor()``, as a campaign on a cluster does):
+        the same fit, its time divided among the processes.
+    load : callable, optional
+        Reads a record from an entry of ``records`` that is not a record (default
+        :func:`pipeline.io.load`, of a path).
     starts : {"moments", "fits"} or sequence of mapping
         Starting values: ``"moments"`` (default) each record's from its pulse's moments
         (:mod:`pipeline.fit.contact`: E*, e, t0, the Ft/Fn plateau for μ); ``"fits"`` a fit
@@ -570,6 +602,7 @@ def fit_campaign(
     starts = opts.pop("starts", "moments")
     solver = opts.pop("solver", "blocks")
     executor = opts.pop("executor", None)
+    load = opts.pop("load", None) or read_record
     if opts:
         raise InputError(f"fit_campaign: unknown option(s) {', '.join(sorted(opts))}")
     if solver not in ("blocks", "dense"):
@@ -603,43 +636,29 @@ def fit_campaign(
     noises = _as_list(noises, n_records, "noise settings")
     model = ForwardModel(normal, tangential, history, n_steps)
     own_starts = starts in ("moments", "fits")
-    singles = [] if own_starts else _as_list(starts, n_records, "starts")
+    how = {"margin": margin, "oversample": oversample, "window_options": window_options}
+    size = store_module.CHUNK
 
-    def prepared():
-        """Each record prepared, its start taken, then handed to the store (and dropped)."""
-        for i, (r, s, se, no) in enumerate(zip(records, scenes, sensors, noises, strict=True)):
-            d = prepare(
-                r,
-                s,
-                channels=model.channels,
-                sensor=se,
-                margin=margin,
-                oversample=oversample,
-                noise=no,
-                window_options=window_options,
-            )
-            if starts == "moments":
-                singles.append(_start(d, model, float(d.scene.speed)))
-            elif starts == "fits":
-                with warnings.catch_warnings():
-                    warnings.simplefilter("ignore", PipelineWarning)
-                    single = fit_model(
-                        r,
-                        s,
-                        model,
-                        DEFAULT_VARY(normal, tangential),
-                        sensor=se,
-                        noise=no,
-                        margin=margin,
-                        oversample=oversample,
-                        n_boot=0,
-                        window_options=window_options,
-                        systematics={},
-                    )
-                singles.append(_single_values(single))
-            yield d, str(r.attrs.get("source", f"record {i}"))
+    def part(a):
+        b = min(a + size, n_records)
+        if isinstance(records, (list, tuple)):
+            items = records[a:b]
+        else:
+            items = [records[i] for i in range(a, b)]
+        return a, items, scenes[a:b], sensors[a:b], noises[a:b], model, how, starts, load
 
-    store = RecordStore(prepared())
+    jobs = (part(a) for a in range(0, n_records, size))
+    on = executor if n_records > size else None  # one chunk: nothing to share
+    singles = []
+
+    def packed():
+        for blob, rows, starts_ in in_order(on, _prepared, jobs):
+            singles.extend(starts_)
+            yield blob, rows
+
+    store = RecordStore.of_packed(packed(), chunk=size)
+    if not own_starts:
+        singles = _as_list(starts, n_records, "starts")
     names = store.summary.names
     todo = [(mu_law, damping)]
     if hyps == "all":

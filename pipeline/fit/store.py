@@ -42,6 +42,7 @@ even killed); it lives in the system's temporary folder (``TMPDIR``).
 
 from __future__ import annotations
 
+import collections
 import dataclasses
 import io
 import os
@@ -55,10 +56,23 @@ import numpy as np
 
 from .forward import Channel, RecordData, baseline_basis, fine_grid
 
-__all__ = ["RecordStore", "RecordSummary", "pack", "unpack", "load_chunk", "CHUNK"]
+__all__ = [
+    "RecordStore",
+    "RecordSummary",
+    "pack",
+    "unpack",
+    "pack_chunk",
+    "load_chunk",
+    "in_order",
+    "CHUNK",
+    "WINDOW",
+]
 
 #: Records written and read together: a chunk's arrays (~1.3 MB) and one read per chunk.
 CHUNK = 64
+#: Chunks in flight at once in an executor (:func:`in_order`; the records travel with
+#: them: ~1.4 MB a chunk).
+WINDOW = 8
 
 
 def pack(data: RecordData) -> dict:
@@ -209,31 +223,47 @@ class RecordStore(Sequence):
     """
 
     def __init__(self, datas: Iterable, *, chunk: int | None = None):
+        def parts():
+            rows, states = [], []
+            for data, name in datas:
+                rows.append(RecordSummary.row(data, name))
+                states.append(pack(data))
+                if len(states) == self.chunk:
+                    yield pack_chunk(states), rows
+                    rows, states = [], []
+            if states:
+                yield pack_chunk(states), rows
+
+        self._fill(parts(), chunk)
+
+    @classmethod
+    def of_packed(cls, parts: Iterable, *, chunk: int | None = None) -> RecordStore:
+        """A store of chunks packed elsewhere (another process): ``(blob, rows)`` for each
+        chunk of ``chunk`` records in order (the last may be shorter), the blob as
+        :func:`pack_chunk` made it, the rows :meth:`RecordSummary.row` entries."""
+        store = cls.__new__(cls)
+        store._fill(parts, chunk)
+        return store
+
+    def _fill(self, parts, chunk) -> None:
         self.chunk = int(chunk or CHUNK)
         self._file = tempfile.TemporaryFile(prefix="pipeline-records-")
         self._lock = threading.Lock()
         self._spans = []  # (offset, length) of each chunk
-        rows, pending = [], []
+        rows = []
         try:
-            for data, name in datas:
-                rows.append(RecordSummary.row(data, name))
-                pending.append(pack(data))
-                if len(pending) == self.chunk:
-                    self._write(pending)
-                    pending = []
-            if pending:
-                self._write(pending)
+            for blob, part in parts:
+                if self._spans and len(rows) != len(self._spans) * self.chunk:
+                    raise ValueError(f"a chunk of records before the last is not {self.chunk}")
+                offset = self._file.seek(0, io.SEEK_END)
+                self._file.write(blob)
+                self._spans.append((offset, len(blob)))
+                rows += part
             self._file.flush()
         except BaseException:
             self.close()
             raise
         self.summary = RecordSummary.of(rows)
-
-    def _write(self, states) -> None:
-        blob = pickle.dumps(states, protocol=pickle.HIGHEST_PROTOCOL)
-        offset = self._file.seek(0, io.SEEK_END)
-        self._file.write(blob)
-        self._spans.append((offset, len(blob)))
 
     def _blob(self, k: int) -> bytes:
         offset, length = self._spans[k]
@@ -289,6 +319,31 @@ class RecordStore(Sequence):
 
     def __setstate__(self, state):
         self.__init__(zip(state["datas"], state["names"], strict=True), chunk=state["chunk"])
+
+
+def pack_chunk(states) -> bytes:
+    """A chunk of :func:`pack`-ed records as a store writes it."""
+    return pickle.dumps(list(states), protocol=pickle.HIGHEST_PROTOCOL)
+
+
+def in_order(executor, fn, jobs):
+    """``fn(*job)`` for each job, in order: here, or submitted to ``executor`` (a
+    ``concurrent.futures.Executor``) with at most :data:`WINDOW` in flight."""
+    if executor is None:
+        for job in jobs:
+            yield fn(*job)
+        return
+    pending = collections.deque()
+    try:
+        for job in jobs:
+            pending.append(executor.submit(fn, *job))
+            if len(pending) >= WINDOW:
+                yield pending.popleft().result()
+        while pending:
+            yield pending.popleft().result()
+    finally:
+        for f in pending:
+            f.cancel()
 
 
 def load_chunk(blob: bytes) -> list:
