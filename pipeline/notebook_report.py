@@ -374,7 +374,7 @@ def record_outputs(analysis, fit, notes=()) -> dict:
                     uuid="implied",
                 )
             ),
-            *_markdown_if([*table.attrs["details"], *fit.notes], "Notes on the fit"),
+            *_markdown_if(tables.fit_notes(fit, table), "Notes on the fit"),
         ],
     }
 

@@ -61,6 +61,7 @@ __all__ = [
     "html_table",
     "as_text",
     "plain_quantities",
+    "reading",
     "model_words",
     "hypothesis_words",
     "MATERIAL_CONSTANTS",
@@ -508,6 +509,20 @@ def plain_quantities(values: dict) -> str:
         unit, x = in_unit(name, v)
         parts.append(f"{sym} = {plain(x)}" + (f" {unit}" if unit else ""))
     return ", ".join(parts)
+
+
+def reading(name: str, value: float, stderr: float | None = None) -> str:
+    """Quantity ``name``'s SI ``value`` (± ``stderr``) as a message reads it: in the unit it
+    reads in, rounded to its uncertainty (:func:`pdg`) or at :data:`PLAIN_DIGITS`
+    significant digits without one — ``reading("E_eff", 1.178e11)`` → ``"117.8 GPa"``,
+    ``reading("Pt_final", 5.2598e-3, 2.4e-5)`` → ``"5.260 ± 0.024 mN·s"``."""
+    if stderr is None:
+        unit, x = in_unit(name, value)
+        text = plain(x)
+    else:
+        unit, x, s = in_unit(name, value, stderr)
+        text = pdg(x, s)
+    return f"{text} {unit}" if unit else text
 
 
 def as_text(df) -> str:

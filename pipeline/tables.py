@@ -44,6 +44,7 @@ __all__ = [
     "view",
     "beside",
     "record_verdict",
+    "fit_notes",
     "record_table",
     "outcomes_table",
     "score_table",
@@ -155,6 +156,14 @@ def record_verdict(a, fit=None) -> str:
     return "\n".join(lines)
 
 
+def fit_notes(fit, table) -> list:
+    """What a report lists under a fit: what stands behind its verdict
+    (``table.attrs["details"]``, each cause's message named), then the fit's notes that
+    are not one of those messages again."""
+    said = set((getattr(fit, "verdict", None) or {}).get("messages", {}).values())
+    return [*table.attrs["details"], *(n for n in fit.notes if n not in said)]
+
+
 def notes_markdown(title: str, notes) -> str:
     """``notes`` (warnings, a fit's notes) as a Markdown list under ``title``, their text
     escaped so that no ``*`` or ``_`` of a message turns into emphasis."""
@@ -247,6 +256,17 @@ def _json_attr(ds, key) -> dict:
     return json.loads(ds.attrs.get(key, "{}") or "{}")
 
 
+def _num(d: dict, key: str) -> float:
+    """A trend's entry ``key`` as a float, NaN where it holds none (the JSON writes what too
+    few records allow to fit as null)."""
+    v = d.get(key)
+    return float(v) if isinstance(v, (int, float)) else math.nan
+
+
+def _fitted(d: dict, key: str) -> bool:
+    return math.isfinite(_num(d, key))
+
+
 def campaign_verdict(ds) -> str:
     """The campaign's verdict in words (Markdown): records analysed and failed, how far
     rigid-body theory is off, the friction and restitution trends, the joint fit."""
@@ -265,29 +285,32 @@ def campaign_verdict(ds) -> str:
         )
     tr = _json_attr(ds, "trends_json")
     fr, re_ = tr.get("friction", {}), tr.get("restitution", {})
-    if "mu_a" in fr and "mu_const" in fr:
-        linear = fr.get("aic_linear", math.inf) < fr.get("aic_constant", math.inf)
-        gap = abs(fr.get("aic_linear", math.nan) - fr.get("aic_constant", math.nan))
-        law = (
-            f"μ = {rounded(fr['mu_a'], fr.get('mu_a_std', math.nan))} + "
-            f"{rounded(fr['mu_b'], fr.get('mu_b_std', math.nan))} s/m · v_t0"
-        )
-        const = f"μ = {pdg(fr['mu_const'], fr.get('mu_const_std', math.nan))}"
-        lines.append(
-            "- **Friction** "
-            + (
+    if _fitted(fr, "mu_const"):
+        const = f"μ = {pdg(fr['mu_const'], _num(fr, 'mu_const_std'))}"
+        if not _fitted(fr, "mu_a"):
+            text = (
+                f"is taken as constant, {const}: a law in the tangential speed needs three "
+                f"records or more with different v_t0 ({tr.get('n_used', 0)} analysed)."
+            )
+        else:
+            gap = abs(_num(fr, "aic_linear") - _num(fr, "aic_constant"))
+            law = (
+                f"μ = {rounded(fr['mu_a'], _num(fr, 'mu_a_std'))} + "
+                f"{rounded(fr['mu_b'], _num(fr, 'mu_b_std'))} s/m · v_t0"
+            )
+            text = (
                 f"changes with the tangential speed: {law}, preferred to a constant "
                 f"{const} by ΔAIC = {plain(gap, 3)}."
-                if linear
+                if _num(fr, "aic_linear") < _num(fr, "aic_constant")
                 else f"is constant, {const} (the linear law {law} is not better: ΔAIC = "
                 f"{plain(gap, 3)})."
             )
-        )
+        lines.append("- **Friction** " + text)
     if "e_const" in re_:
         pref = re_.get("preferred")
-        gap = abs(re_.get("aic_constant_e", math.nan) - re_.get("aic_constant_alpha", math.nan))
-        e_text = f"e = {pdg(re_['e_const'], re_.get('e_const_std', math.nan))}"
-        a_text = f"α = {pdg(re_['alpha'], re_.get('alpha_std', math.nan))} s/m"
+        gap = abs(_num(re_, "aic_constant_e") - _num(re_, "aic_constant_alpha"))
+        e_text = f"e = {pdg(re_['e_const'], _num(re_, 'e_const_std'))}"
+        a_text = f"α = {pdg(re_['alpha'], _num(re_, 'alpha_std'))} s/m"
         lines.append(
             "- **Restitution**: "
             + (
@@ -403,11 +426,11 @@ def trends_table(ds, which: str) -> pd.DataFrame:
 
     def row(law, params, aic_key, unit=""):
         text = "; ".join(
-            f"{sym} = {pdg(tr[k], tr.get(f'{k}_std', math.nan))}" + (f" {u}" if u else "")
+            f"{sym} = {pdg(tr[k], _num(tr, f'{k}_std'))}" + (f" {u}" if u else "")
             for sym, k, u in params
-            if k in tr
+            if _fitted(tr, k)
         )
-        return {"hypothesis": law, "parameters": text, "AIC": tr.get(aic_key, math.nan)}
+        return {"hypothesis": law, "parameters": text, "AIC": _num(tr, aic_key)}
 
     if which == "friction":
         rows = [
@@ -435,7 +458,11 @@ def trends_table(ds, which: str) -> pd.DataFrame:
     df.attrs["verdict"] = (
         f"{which.capitalize()}"
         + (f" over {n} records" if n is not None else "")
-        + f": {preferred} preferred (lowest AIC)"
+        + (
+            f": {preferred} preferred (lowest AIC)"
+            if len(rows) > 1
+            else f": {preferred} (the only hypothesis so few records allow)"
+        )
     )
     return df
 

@@ -556,3 +556,44 @@ def test_the_campaign_reports_tables_state_the_datasets_numbers(result):
     verdict = campaign_verdict(ds)
     assert verdict.startswith(f"## {ds.attrs['source']}: 5 of 9 records analysed")
     assert verdict.count("failed: ") == 4
+
+
+def test_two_records_state_a_constant_friction_and_no_linear_law():
+    """Two records allow a constant μ (their mean ± its standard error), not a line in
+    v_t0 (two points, two parameters: no scatter left to judge it): the verdict and the
+    friction table say so in words and print no placeholder for the line's parameters."""
+    import xarray as xr
+
+    from pipeline._json import json_ready
+    from pipeline.tables import campaign_verdict, trends_table
+
+    mu = np.array([0.10, 0.14])
+    ds = xr.Dataset(
+        {
+            "status": ("record", np.array(["ok"] * 2, dtype=object)),
+            "reason": ("record", np.array(["", ""], dtype=object)),
+            "e_n": ("record", np.array([0.9, 0.9])),
+            "mu_record": ("record", mu),
+            "score": (("record", "phase", "metric"), np.zeros((2, 1, 1))),
+            "score_std": (("record", "phase", "metric"), np.zeros((2, 1, 1))),
+        },
+        coords={
+            "record": ["a.csv", "b.csv"],
+            "speed": ("record", [0.3, 0.6]),
+            "angle": ("record", [15.0, 15.0]),
+            "v_t0": ("record", [0.08, 0.16]),
+            "phase": ["total"],
+            "metric": ["max_distance"],
+        },
+        attrs={"source": "two"},
+    )
+    ds.attrs["trends_json"] = json.dumps(json_ready(trends(ds)))
+    verdict = campaign_verdict(ds)
+    # mean 0.12, standard error std(ddof=1)/√2 = 0.02828/1.414 = 0.020
+    assert "**Friction** is taken as constant, μ = 0.120 ± 0.020" in verdict
+    assert "needs three records or more" in verdict and "– + –" not in verdict
+    fr = trends_table(ds, "friction")
+    assert list(fr.index) == ["μ constant"]
+    assert fr.attrs["verdict"] == (
+        "Friction over 2 records: μ constant (the only hypothesis so few records allow)"
+    )

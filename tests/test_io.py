@@ -542,7 +542,7 @@ def test_wpd_combined_exports_keep_every_point():
     # the list form gives the same record
     same = load([paths["Fn"], paths["Ft"]], time_unit="us", force_unit="N")
     np.testing.assert_array_equal(same["Ft"].values, rec["Ft"].values)
-    assert rec.attrs["source"] == "wpd_Fn.csv,wpd_Ft.csv"
+    assert rec.attrs["source"] == "wpd_Fn.csv, wpd_Ft.csv"
     assert len(rec.attrs["sha256"].split(",")) == 2
     validate(rec)
 

@@ -28,6 +28,7 @@ from pipeline.notebook_report import (
     execute,
     record_report,
     render,
+    render_record_report,
 )
 from pipeline.report import load_sample, scene_from_sidecar
 from pipeline.tables import record_verdict
@@ -371,3 +372,23 @@ def test_html_is_nbconverts_own(report, campaign_made):
         fresh = HTMLExporter(**HTML_OPTIONS)
         expected, _ = fresh.from_notebook_node(nb)
         assert to_html(nb) == expected, path
+
+
+def test_a_fits_notes_state_each_cause_once_in_the_units_a_person_reads(tmp_path):
+    """The sample from a tri-axial sensor has a verdict (cross-talk, another law, an
+    impulse off): the report lists each cause's message once, named for its cause — not
+    again as a bare note — and its numbers read in their units, with no e-notation
+    (issue 21)."""
+    record = ROOT / "data_samples" / "sensor.tdms"
+    a, fit = _analysis_and_fit(record, n_boot=N_BOOT, seed=SEED)
+    messages = list(fit.verdict["messages"].values())
+    assert len(messages) >= 2
+    made = render_record_report(record, a, fit, tmp_path, html=False, scene_given=False)
+    nb = nbformat.read(made.ipynb, as_version=4)
+    (cell,) = [c for c in nb.cells if c.cell_type == "code" and "Notes on the fit" in _markdown(c)]
+    notes = _markdown(cell)
+    for m in messages:  # Markdown escapes ``_`` and ``*``: compare the words
+        words = re.sub(r"\\(.)", r"\1", notes)
+        assert words.count(m) == 1, m
+    code = re.compile(r"sensor=\{[^}]*\}")  # a snippet to state a value, as Python reads it
+    assert not re.search(r"\d[eE][-+]?\d", code.sub("", notes)), notes

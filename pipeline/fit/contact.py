@@ -72,7 +72,7 @@ from .._json import json_ready
 from ..contact import NORMAL_LAWS, calibrate_thornton, yield_pressure
 from ..errors import InputError, PipelineWarning, PoorFitWarning
 from ..percussion import estimate_mu
-from ..precision import model_words
+from ..precision import bound, model_words
 from ..scene import Scene
 from ..simulate.curved import geometry_error
 from ..smooth import runs_test
@@ -892,9 +892,10 @@ def _bounded(fit, want) -> ContactFit:
             if param not in SYSTEMATIC_PARAMS and shift > 0:
                 terms.setdefault(param, {})[name] = shift / math.sqrt(3.0)
         what = (
-            f"a mounted mode at f_n ≥ {b['limit']:.3g} Hz (ζ = {dynamics.ZETA_BOUND})"
+            f"a mounted mode at f_n {bound(b['limit'] * 1e-3, 'lower')} kHz "
+            f"(ζ = {dynamics.ZETA_BOUND})"
             if name == "resonance"
-            else f"a discharge of τ ≥ {b['limit']:.3g} s"
+            else f"a discharge of τ {bound(b['limit'] * 1e3, 'lower')} ms"
         )
         notes.append(
             f"{name}: none stated and none shows in the record, which allows {what}; its "

@@ -78,6 +78,7 @@ from ..errors import (
     SensorFilterWarning,
     SpikeWarning,
 )
+from ..precision import plain_quantities, reading
 from .forward import _I
 from .pulse import shape_of
 from .sensor import CrossTalkWarning, fy_tracks_fn
@@ -222,10 +223,8 @@ def diagnose(
     if table:
         best = min(table, key=lambda k: table[k]["aic"])
         if best != fit.normal and table[fit.normal]["delta_aic"] > AIC_DECISIVE:
-            shift = ", ".join(
-                f"{n} {table[best]['values'][n]:.4g}"
-                for n in ("E_eff", "e")
-                if n in table[best]["values"]
+            shift = plain_quantities(
+                {n: table[best]["values"][n] for n in ("E_eff", "e") if n in table[best]["values"]}
             )
             add(
                 "normal_law",
@@ -393,23 +392,25 @@ def dynamics_text(fit) -> str:
     parts = []
     if "resonance" in fit.vary and "resonance" not in fit.priors:
         parts.append(
-            f"a mounted mode rings after the pulse: fitted f_n = {v['resonance']:.6g} ± "
-            f"{se['resonance']:.2g} Hz, ζ = {v['damping_ratio']:.3g} ± {se['damping_ratio']:.2g}"
+            "a mounted mode rings after the pulse: fitted f_n = "
+            f"{reading('resonance', v['resonance'], se['resonance'])}, ζ = "
+            f"{reading('damping_ratio', v['damping_ratio'], se['damping_ratio'])}"
             f" (state it: sensor={{'resonance': {v['resonance']:.4e}, 'damping_ratio': "
             f"{v['damping_ratio']:.2g}}})"
         )
     if "discharge" in fit.vary and "discharge" not in fit.priors:
         parts.append(
             f"the piezo discharges (the record undershoots after the pulse): fitted τ = "
-            f"{v['discharge']:.3g} ± {se['discharge']:.2g} s (state it: sensor={{'discharge': "
+            f"{reading('discharge', v['discharge'], se['discharge'])} (state it: "
+            f"sensor={{'discharge': "
             f"{v['discharge']:.3e}}})"
         )
     for name, value in zero_shifts(fit).items():
         peak = fit.physics.get("F_max", math.nan)
         parts.append(
             f"{name}'s zero shifts by {value:+.4g} N ({value / peak:+.2%} of the peak) during "
-            f"the contact, half done {v['shift_at'] - v['t0']:.3g} s after the onset over "
-            f"{v['shift_width']:.2g} s: fitted"
+            f"the contact, half done {reading('t_c', v['shift_at'] - v['t0'])} after the onset "
+            f"over {reading('t_c', v['shift_width'])}: fitted"
         )
     return "; ".join(parts) + " — modelled, the parameters hold"
 
@@ -451,18 +452,20 @@ def _pull(fit, name):
 
 def _impulse_text(fit, key, v) -> str:
     """What an impulse mismatch of channel ``key`` is (row ``v`` of :func:`impulse_mismatch`)."""
+    q = "Pt_final" if key == "Pt" else "Pn_final"
     if abs(v["measured_Ns"] - v["model_Ns"]) > 3.0 * v["sigma_Ns"] and (
         abs(v["relative"]) > IMPULSE_FLOOR
     ):
         return (
-            f"the model's {key} over the contact is {v['model_Ns']:.5g} N s against the "
-            f"measured {v['measured_Ns']:.5g} ± {v['sigma_Ns']:.2g} N s ({v['relative']:+.2%})"
+            f"the model's {key} over the contact is {reading(q, v['model_Ns'])} against the "
+            f"measured {reading(q, v['measured_Ns'], v['sigma_Ns'])} ({v['relative']:+.2%})"
         )
     pulls = [(n, p) for n in fit.priors if (p := _pull(fit, n)) is not None and abs(p[0]) > 2.0]
     moved = ", ".join(f"{n} {p[0]:+.1f} σ" for n, p in sorted(pulls, key=lambda q: -abs(q[1][0])))
     text = (
-        f"with the stated inputs the model's {key} over the contact is {v['stated_Ns']:.5g} N s "
-        f"against the measured {v['measured_Ns']:.5g} ± {v['stated_sigma_Ns']:.2g} N s "
+        f"with the stated inputs the model's {key} over the contact is "
+        f"{reading(q, v['stated_Ns'])} against the measured "
+        f"{reading(q, v['measured_Ns'], v['stated_sigma_Ns'])} "
         f"(their tolerances included; {v['stated_relative']:+.2%})"
     )
     if "e_impulse" in v and "e" in fit.values:

@@ -472,10 +472,10 @@ def _read_singles(paths, channels, time_unit, force_unit, encoding, scene, parse
             f"no normal-force channel: the export(s) hold "
             f"{', '.join(series)} only; load it together with the Fn export, e.g. "
             "load({'Fn': 'fn.csv', 'Ft': 'ft.csv'}, time_unit=..., force_unit=...)",
-            path=",".join(names),
+            path=", ".join(names),
         )
     attrs = base_attrs(first, ",".join(shas), "wpd", "digitised")
-    attrs["source"] = ",".join(names)
+    attrs["source"] = ", ".join(names)  # a heading, a message: as a person lists them
     attrs["channels"] = ",".join(f"{ch}={n}" for ch, n in zip(series, names, strict=True))
     return _digitised_record(
         series, attrs, time_unit=time_unit, force_unit=force_unit, path=attrs["source"], scene=scene

@@ -39,6 +39,7 @@ from IPython.display import Markdown, display
 from pipeline import Scene, analyse, figures, fit_contact
 from pipeline.report import findings, load_sample, scene_from_sidecar
 from pipeline.tables import (
+    fit_notes,
     implied_table,
     notes_markdown,
     outcomes_table,
@@ -116,7 +117,7 @@ display(view(table, uuid="fit"))
 display(figures.fig_contact_fit(fit))
 display(view(implied_table(fit), caption="What the fitted parameters imply", uuid="implied"))
 if table.attrs["details"] or fit.notes:
-    display(Markdown(notes_markdown("Notes on the fit", [*table.attrs["details"], *fit.notes])))
+    display(Markdown(notes_markdown("Notes on the fit", fit_notes(fit, table))))
 
 # %% [markdown]
 # ## How this report is made
