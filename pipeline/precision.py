@@ -399,7 +399,7 @@ def parameter_table(entries, budget=None, *, verdict="", details=(), level=0.95,
     for row in budget.values():
         terms += [k for k in row if k != "total" and k not in terms]
     head = f"{level:.0%} interval".replace("%", " %")
-    rows = []
+    rows, loose = [], []
     for e in entries:
         name, status = e["name"], e.get("status", "fitted")
         v, s = e["value"], e.get("stderr", math.nan)
@@ -415,6 +415,12 @@ def parameter_table(entries, budget=None, *, verdict="", details=(), level=0.95,
         else:
             text = pdg(v_u, s_u)
             ci = interval(lo_u, hi_u, v_u, s_u) if e.get("ci") else "–"
+            if s_u >= abs(v_u):
+                loose.append(
+                    f"{quantity(what).symbol}: the data hardly determine it (its standard "
+                    f"uncertainty is {plain(100.0 * s_u / abs(v_u), 2)} % of its value); read "
+                    "its interval, not its value"
+                )
         row = {
             "parameter": name,
             "quantity": quantity(what).symbol,
@@ -432,7 +438,7 @@ def parameter_table(entries, budget=None, *, verdict="", details=(), level=0.95,
         columns.append("kind")
     columns += [f"{t} [%]" for t in terms]
     df = pd.DataFrame(rows, columns=columns).set_index("parameter")
-    df.attrs.update(verdict=verdict, details=list(details), level=level)
+    df.attrs.update(verdict=verdict, details=[*details, *loose], level=level)
     return df
 
 

@@ -138,6 +138,25 @@ def test_parameter_table_says_what_has_no_uncertainty():
     assert list(df["unit"]) == ["GPa", "", "", ""]
     assert list(df["95 % interval"]) == ["[110, 130]", "–", "–", "–"]
     assert df.attrs["verdict"] == "In words."
+    assert df.attrs["details"] == []
+
+
+def test_parameter_table_says_which_values_the_data_hardly_determine():
+    """A standard uncertainty as large as the value (E* = 100 ± 900 GPa) is printed as PDG
+    rounds it, and the details say the value means little: 900 % of it."""
+    df = parameter_table(
+        [
+            {"name": "E_eff", "value": 1.0e11, "stderr": 9.0e11, "ci": (1e9, 1e13)},
+            {"name": "mu", "value": 0.3, "stderr": 0.01, "ci": (0.28, 0.32)},
+        ],
+        details=("a note",),
+    )
+    assert list(df["value"]) == ["(1 ± 9)×10²", "0.300 ± 0.010"]
+    assert df.attrs["details"] == [
+        "a note",
+        "E*: the data hardly determine it (its standard uncertainty is 900 % of its value); "
+        "read its interval, not its value",
+    ]
 
 
 # ------------------------------------------------------------------ the fits' tables
