@@ -162,6 +162,14 @@ def test_readme_example_runs_and_finds_what_it_says(tmp_path, monkeypatch):
     truth = scene_from_sidecar(MAIN_RECORD)
     assert fit.values["E_eff"] == pytest.approx(truth.E / (2 * (1 - truth.nu**2)), rel=0.01)
     assert fit.verdict["ok"]
+    # a rig's record with its mode stated: the interval holds the E* it was simulated with
+    lo, hi = ns["rig_fit"].ci()["E_eff"]
+    assert lo <= truth.E / (2 * (1 - truth.nu**2)) <= hi
+    # Thornton's law on a plastic record: the yield pressure it was made with, 1 GPa, and
+    # the yield speed the README derives from it (Thornton 1997, J. Appl. Mech. 64:383)
+    # inside their intervals
+    ci = ns["plastic"].ci()
+    assert ci["p_y"][0] <= 1e9 <= ci["p_y"][1] and ci["v_y"][0] <= ns["v_y"] <= ci["v_y"][1]
 
 
 def test_getting_started_example_runs(tmp_path, monkeypatch):
