@@ -308,7 +308,13 @@ def diagnose(
             "impulse_mismatch",
             "; ".join(_impulse_text(fit, k, v) for k, v in bad.items())
             + ": the model trades impulse for pulse shape — another normal law, a "
-            "baseline that drifts under the pulse or a wrong scene",
+            "baseline that drifts under the pulse or a wrong scene"
+            + (
+                " (Pt: a spin of the ball before impact that the scene does not state, "
+                "Scene.spin, changes the slip the tangential force follows)"
+                if "Pt" in bad and float(fit.data.scene.spin) == 0.0
+                else ""
+            ),
             ImpulseMismatchWarning,
         )
     # ---- geometry
