@@ -365,6 +365,11 @@ def share_text(percent: float) -> str:
     return f"{percent:.1f}" if percent < 0.95 else f"{percent:.0f}"
 
 
+#: The parameters that are positive by nature, whose value a standard uncertainty as large
+#: as it leaves undetermined (a signed one near zero, μ_b, a leak, is well determined there).
+_POSITIVE = frozenset({"E_eff", "e", "mu", "mu_a", "kt_scale", "alpha", "p_y", "v_y", "beta0"})
+
+
 def parameter_table(entries, budget=None, *, verdict="", details=(), level=0.95, normal=None):
     """The human table of a fit: one row per parameter, rounded, in its unit.
 
@@ -415,7 +420,7 @@ def parameter_table(entries, budget=None, *, verdict="", details=(), level=0.95,
         else:
             text = pdg(v_u, s_u)
             ci = interval(lo_u, hi_u, v_u, s_u) if e.get("ci") else "–"
-            if s_u >= abs(v_u):
+            if s_u >= abs(v_u) and re.sub(r"_\d+$", "", name) in _POSITIVE:
                 loose.append(
                     f"{quantity(what).symbol}: the data hardly determine it (its standard "
                     f"uncertainty is {plain(100.0 * s_u / abs(v_u), 2)} % of its value); read "

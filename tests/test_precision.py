@@ -143,15 +143,17 @@ def test_parameter_table_says_what_has_no_uncertainty():
 
 def test_parameter_table_says_which_values_the_data_hardly_determine():
     """A standard uncertainty as large as the value (E* = 100 ± 900 GPa) is printed as PDG
-    rounds it, and the details say the value means little: 900 % of it."""
+    rounds it, and the details say the value means little: 900 % of it; a signed
+    parameter near zero (μ_b = 0.01 ± 0.02 s/m) is determined, and gets no such note."""
     df = parameter_table(
         [
             {"name": "E_eff", "value": 1.0e11, "stderr": 9.0e11, "ci": (1e9, 1e13)},
             {"name": "mu", "value": 0.3, "stderr": 0.01, "ci": (0.28, 0.32)},
+            {"name": "mu_b", "value": 0.01, "stderr": 0.02, "ci": (-0.03, 0.05)},  # signed
         ],
         details=("a note",),
     )
-    assert list(df["value"]) == ["(1 ± 9)×10²", "0.300 ± 0.010"]
+    assert list(df["value"]) == ["(1 ± 9)×10²", "0.300 ± 0.010", "0.010 ± 0.020"]
     assert df.attrs["details"] == [
         "a note",
         "E*: the data hardly determine it (its standard uncertainty is 900 % of its value); "
