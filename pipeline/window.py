@@ -117,6 +117,7 @@ from .errors import (
     TruncatedPulseError,
     caller_level,
 )
+from .precision import reading
 from .record import FORCE_CHANNELS, KINDS, adc_step, channel
 
 __all__ = [
@@ -1147,8 +1148,8 @@ def _report_spikes(spikes, src):
     if not spikes:
         return
     listing = "; ".join(
-        f"{sp.channel} sample {sp.index} (t = {sp.t:.6g} s: {sp.value:.4g} N, its neighbours "
-        f"give {sp.repaired:.4g} N)"
+        f"{sp.channel} sample {sp.index} (t = {reading('t0', sp.t)}: {sp.value:.4g} N, its "
+        f"neighbours give {sp.repaired:.4g} N)"
         for sp in spikes[:8]
     ) + ("; ..." if len(spikes) > 8 else "")
     warnings.warn(

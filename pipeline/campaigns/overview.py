@@ -35,7 +35,7 @@ import xarray as xr
 
 from .._atomic import atomic_write_text
 from ..errors import InputError
-from ..figures.style import COLORS
+from ..figures.style import COLORS, GROUP_COLORS
 from ..precision import pdg, plain
 from ..score import NEAR_ZERO
 
@@ -45,14 +45,10 @@ __all__ = ["write_overview", "overview_html", "OVERVIEW"]
 OVERVIEW = "overview.html"
 
 #: Colours and markers of the impact-speed groups (as the campaign figures', Okabe–Ito).
-_GROUP_STYLES = (
-    (COLORS["sliding"], "circle"),
-    (COLORS["sticking"], "square"),
-    (COLORS["fit"], "triangle"),
-    (COLORS["accent"], "diamond"),
-    (COLORS["rigid"], "inverted_triangle"),
-    (COLORS["measured"], "plus"),
-)
+_GROUP_STYLES = tuple(
+    zip(GROUP_COLORS, ("circle", "square", "triangle", "diamond", "inverted_triangle", "plus"),
+        strict=True)
+)  # fmt: skip
 
 #: The panels: (id, x column, y column, x label, y label, heading, what a missing value is).
 _PANELS = (

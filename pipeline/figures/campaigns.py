@@ -15,7 +15,16 @@ from ..rigid import sphere_on_plane
 from ..scene import Scene
 from ..score import NEAR_ZERO
 from ..simulate import impact_outcomes
-from .style import COLORS, DOUBLE, SINGLE, fitting_text, new_figure, panel_label, style
+from .style import (
+    COLORS,
+    DOUBLE,
+    GROUP_COLORS,
+    SINGLE,
+    fitting_text,
+    new_figure,
+    panel_label,
+    style,
+)
 
 __all__ = [
     "campaign_outcomes",
@@ -28,15 +37,8 @@ __all__ = [
 
 
 # ============================================================== campaigns
-#: Markers by speed group in the campaign figures (colours from :data:`COLORS`).
-_SPEED_STYLES = (
-    (COLORS["sliding"], "o"),
-    (COLORS["sticking"], "s"),
-    (COLORS["fit"], "^"),
-    (COLORS["accent"], "D"),
-    (COLORS["rigid"], "v"),
-    (COLORS["measured"], "P"),
-)
+#: Colours and markers of the speed groups in the campaign figures.
+_SPEED_STYLES = tuple(zip(GROUP_COLORS, ("o", "s", "^", "D", "v", "P"), strict=True))
 
 
 def _campaign_title(fig, ds, what: str) -> None:

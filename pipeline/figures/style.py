@@ -17,6 +17,7 @@ __all__ = [
     "SINGLE",
     "DOUBLE",
     "COLORS",
+    "GROUP_COLORS",
     "style",
     "new_figure",
     "save",
@@ -38,6 +39,11 @@ COLORS = {
     "construction": "#7F7F7F",  # grey: auxiliary lines C, T, S
     "accent": "#E69F00",  # orange
 }
+
+#: The colours of a campaign's impact-speed groups, in order (its figures and its overview).
+GROUP_COLORS = tuple(
+    COLORS[k] for k in ("sliding", "sticking", "fit", "accent", "rigid", "measured")
+)
 
 #: rcParams applied by :func:`style` (publication look: 8–9 pt text, thin frames).
 STYLE = {

@@ -72,7 +72,7 @@ from .._json import json_ready
 from ..contact import NORMAL_LAWS, calibrate_thornton, yield_pressure
 from ..errors import InputError, PipelineWarning, PoorFitWarning
 from ..percussion import estimate_mu
-from ..precision import bound, model_words
+from ..precision import bound, model_words, reading
 from ..scene import Scene
 from ..simulate.curved import geometry_error
 from ..smooth import runs_test
@@ -81,6 +81,7 @@ from .engine import Design, Problem, gauss_newton_many
 from .forward import (
     _I,
     PARAMS,
+    SHIFT_OF,
     SHIFT_PARAMS,
     SYSTEMATIC_PARAMS,
     UNITS,
@@ -822,7 +823,7 @@ def _with_dynamics(fit, findings, record, scene, model, vary, t_begin, opts) -> 
         fn, zeta, chi2, fd, delta = findings.mode
         sensor = dataclasses.replace(sensor, resonance=fn, damping_ratio=zeta)
         why = (
-            f"not stated: fitted — the record rings at {fd:.4g} Hz after the pulse, "
+            f"not stated: fitted — the record rings at {reading('resonance', fd)} after the pulse, "
             f"logarithmic decrement {delta:.3g} (χ² {chi2:.0f} explained)"
         )
         found["resonance"] = (fn, why)
@@ -910,11 +911,11 @@ def _bounded(fit, want) -> ContactFit:
 def _what(findings) -> str:
     parts = []
     if findings.mode is not None:
-        parts.append(f"a mounted mode near {findings.mode[0]:.4g} Hz")
+        parts.append(f"a mounted mode near {reading('resonance', findings.mode[0])}")
     if findings.discharge is not None:
-        parts.append(f"a discharge of τ ≈ {findings.discharge[0]:.3g} s")
+        parts.append(f"a discharge of τ ≈ {reading('discharge', findings.discharge[0])}")
     if findings.shift:
-        chans = [c for c, p in (("Fn", "shift_n"), ("Ft", "shift_t")) if p in findings.shift]
+        chans = [c for c, p in SHIFT_OF.items() if p in findings.shift]
         parts.append(f"a zero shift of {' and '.join(chans)}")
     return " and ".join(parts)
 

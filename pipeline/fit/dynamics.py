@@ -56,7 +56,7 @@ import numpy as np
 from scipy import optimize, special
 
 from .engine import _pseudo_inverse, gauss_newton_many
-from .forward import _I, SYSTEMATIC_PARAMS, Solution, weighted_residuals
+from .forward import _I, SHIFT_OF, SYSTEMATIC_PARAMS, Solution, weighted_residuals
 
 __all__ = [
     "shift_spread",
@@ -258,7 +258,7 @@ def _shift_columns(r, data, model, P, sol, Q, t_end, channels) -> dict:
     for c in data.channels:
         if c.name not in channels:
             continue
-        param = "shift_n" if c.name == "Fn" else "shift_t"
+        param = SHIFT_OF[c.name]
         values = np.column_stack([np.ones(len(grid)), grid])
         rows = _changes(data, model, P, sol, Q, (param, "shift_at", "shift_width"), values)
         norm = np.einsum("kn,kn->k", rows, rows)

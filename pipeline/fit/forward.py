@@ -104,29 +104,15 @@ PARAMS = (
     "shift_at",
     "shift_width",
 )
-#: The inputs known to a tolerance, among :data:`PARAMS`.
-SYSTEMATIC_PARAMS = (
-    "speed",
-    "mass",
-    "radius",
-    "gain_n",
-    "gain_t",
-    "leak",
-    "leak_tn",
-    "time_base",
-    "bandwidth",
-    "resonance",
-    "damping_ratio",
-    "discharge",
-    "shift_n",
-    "shift_t",
-    "shift_at",
-    "shift_width",
-)
+#: The inputs known to a tolerance, among :data:`PARAMS`: every one after the contact's
+#: four but the onset t0.
+SYSTEMATIC_PARAMS = tuple(p for p in PARAMS[4:] if p != "t0")
 #: The zero shift's parameters, among :data:`SYSTEMATIC_PARAMS` (fitted where the record
 #: shows one, no prior): its size on Fn and Ft [N], the instant it is half done and the time
 #: it takes [s] (:func:`zero_shift`).
 SHIFT_PARAMS = ("shift_n", "shift_t", "shift_at", "shift_width")
+#: The parameter of each channel's zero shift, among :data:`SHIFT_PARAMS`.
+SHIFT_OF = {"Fn": "shift_n", "Ft": "shift_t"}
 #: The sensor chain's parameters, among :data:`PARAMS` (each column filtered with its own).
 CHAIN_PARAMS = ("bandwidth", "resonance", "damping_ratio", "discharge")
 UNITS = {

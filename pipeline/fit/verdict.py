@@ -79,7 +79,7 @@ from ..errors import (
     SpikeWarning,
 )
 from ..precision import plain_quantities, reading
-from .forward import _I
+from .forward import _I, SHIFT_OF
 from .pulse import shape_of
 from .sensor import CrossTalkWarning, fy_tracks_fn
 
@@ -423,7 +423,7 @@ def dynamics_text(fit) -> str:
 
 def zero_shifts(fit) -> dict:
     """{channel: fitted zero shift [N]} of the channels whose zero shift the fit models."""
-    return {ch: fit.values[p] for ch, p in (("Fn", "shift_n"), ("Ft", "shift_t")) if p in fit.vary}
+    return {ch: fit.values[p] for ch, p in SHIFT_OF.items() if p in fit.vary}
 
 
 def _better_order(fit, orders, refit_order, always=False):
