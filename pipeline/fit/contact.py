@@ -1137,9 +1137,11 @@ def _warm_start(fit, model, vary) -> dict:
     return {n: v for n, v in out.items() if n in vary}
 
 
+@functools.lru_cache(maxsize=1024)
 def _pulse_moments(law, e, n_steps) -> tuple[float, float, float]:
     """(centroid, RMS width, instant of the peak) of ``law``'s dimensionless pulse at
-    restitution ``e`` [δ*/v0], on the fit's table."""
+    restitution ``e`` [δ*/v0], on the fit's table (kept: a record's fits and the verdict's
+    start from the same few restitutions)."""
     pul = normal_pulse(law, e, n_steps)
     tau = np.linspace(0.0, pul.tau_c[0], pul.n_steps + 1)
     _, mean, width = _moments(tau, pul.f[0])

@@ -84,12 +84,12 @@ def _bounds(name, value, data):
         return (value / 100.0, value * 100.0)
     if name in ("shift_n", "shift_t"):
         return (-math.inf, math.inf)
-    if name in ("shift_at", "shift_width"):
+    if name == "shift_at":
         w = data.window
+        return (w.t_start - 0.25 * w.duration, w.t_end + 0.25 * w.duration)
+    if name == "shift_width":
         step = float(np.median(np.diff(data.channels[0].t))) / max(data.oversample, 1)
-        if name == "shift_at":
-            return (w.t_start - 0.25 * w.duration, w.t_end + 0.25 * w.duration)
-        return (2.0 * step, 2.0 * w.duration)
+        return (2.0 * step, 2.0 * data.window.duration)
     if name == "t0":
         w = data.window
         return t0_bounds(data.channels[0].t[0], w.t_start, w.duration)

@@ -177,8 +177,9 @@ def _circular_blocks(rng, r, b, B):
     starts = rng.integers(0, n, size=(B, nb))
     if b == 1:  # white residuals: each draw is a sample (the same draws, no index arithmetic)
         return r[starts]
-    idx = (starts[:, :, None] + np.arange(b)[None, None, :]).reshape(B, -1)[:, :n] % n
-    return r[idx]
+    # the series wrapped once, its windows of b samples: each draw gathers whole blocks
+    windows = np.lib.stride_tricks.sliding_window_view(np.concatenate([r, r[: b - 1]]), b)
+    return windows[starts].reshape(B, -1)[:, :n]
 
 
 def block_bootstrap(
