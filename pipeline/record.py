@@ -125,11 +125,11 @@ def make_record(
 
 def channel(record: xr.Dataset, name: str) -> tuple[np.ndarray, np.ndarray]:
     """The instants [s] and values [N] at which channel ``name`` was actually measured."""
-    t = record["time"].values
-    f = record[name].values
+    t = record.variables["time"].values
+    f = record.variables[name].values
     mask_name = f"{name}_measured"
     if mask_name in record:
-        m = record[mask_name].values.astype(bool)
+        m = record.variables[mask_name].values.astype(bool)
         return t[m], f[m]
     return t, f
 
@@ -149,7 +149,7 @@ def validate(record: xr.Dataset) -> xr.Dataset:
     src = record.attrs.get("source", "<record>")
     if "time" not in record.coords:
         raise InputError("record has no 'time' coordinate", path=src)
-    t = record["time"].values
+    t = record.variables["time"].values
     if record["time"].attrs.get("units") != "s":
         raise InputError("record time must carry units 's'", path=src)
     if t.ndim != 1 or t.size < 2:

@@ -456,7 +456,7 @@ def apply_window(record: xr.Dataset, window: ContactWindow) -> xr.Dataset:
         A new record: forces minus baseline [N], samples with t_start ≤ t ≤ t_end, attrs
         ``window_t_start``, ``window_t_end`` [s] and ``baseline_removed`` (0/1) added.
     """
-    t = record["time"].values
+    t = record.variables["time"].values
     # a tolerance of a few ulp keeps samples that sit exactly on the window's ends
     tol = 4 * np.finfo(float).eps * max(abs(window.t_start), abs(window.t_end), 1e-300)
     idx = np.flatnonzero((t >= window.t_start - tol) & (t <= window.t_end + tol))
@@ -574,7 +574,7 @@ def _finish(record, t_start, t_end, kind, noise, baseline, threshold, peak):
 
 
 def _passthrough(record):
-    t = record["time"].values
+    t = record.variables["time"].values
     tf, fn = channel(record, "Fn")
     if -np.min(fn) > max(np.max(fn), 0.0):
         raise SignFlipError(
@@ -602,8 +602,8 @@ def _passthrough(record):
 
 
 def _simulated(record):
-    t = record["time"].values
-    fn = record["Fn"].values
+    t = record.variables["time"].values
+    fn = record.variables["Fn"].values
     pos = np.flatnonzero(fn > 0)
     src = record.attrs.get("source")
     if pos.size == 0:
@@ -704,7 +704,7 @@ def _ends(t, r, a, b):
 def _repair_spikes(record, false_alarm):
     """(the record with every channel's spikes repaired, the spikes) — the record itself
     where there are none (:func:`find_spikes`; uniformly sampled channels only)."""
-    t = record["time"].values
+    t = record.variables["time"].values
     dt = np.diff(t)
     if t.size < 20 or np.ptp(dt) > 1e-6 * np.mean(dt):
         return record, ()
@@ -732,10 +732,10 @@ def _repair_spikes(record, false_alarm):
 
 def _sensor(record, *, k, false_alarm, guard, max_iter):
     src = record.attrs.get("source")
-    raw_fn = record["Fn"].values
+    raw_fn = record.variables["Fn"].values
     record, spikes = _repair_spikes(record, false_alarm)
-    t = record["time"].values
-    y = record["Fn"].values
+    t = record.variables["time"].values
+    y = record.variables["Fn"].values
     n = t.size
     if n < 20:
         raise InputError(
@@ -834,7 +834,7 @@ def _sensor(record, *, k, false_alarm, guard, max_iter):
     both = np.count_nonzero(outside & (t < t0)) >= 4 and np.count_nonzero(outside & (t > t1)) >= 4
     noise, baseline = {}, {}
     for c in _channels(record):
-        yc = record[c].values
+        yc = record.variables[c].values
         bc = base if c == "Fn" else _fit_line(t, yc, outside, t_ref, both)
         baseline[c] = bc
         noise[c] = _sigma((yc - bc(t))[outside], yc)
@@ -1113,11 +1113,11 @@ def _check_truncated(found, t, r, sigma, src):
 
 def _check_clipping(record, found, outside, src):
     """ClippedSignalError when Fn or Ft sits at its extreme over a flat run in the pulse."""
-    t = record["time"].values
+    t = record.variables["time"].values
     for c in ("Fn", "Ft"):
         if c not in record:
             continue
-        raw = record[c].values
+        raw = record.variables[c].values
         seg = raw[found.a : found.b + 1]
         base = raw[outside]
         # the rate of equal neighbours in the baseline: how often the noise repeats a value
