@@ -100,12 +100,13 @@ import warnings
 from dataclasses import dataclass
 
 import numpy as np
+import pandas as pd
 import xarray as xr
 from scipy import integrate, optimize
 
 from ._json import json_ready
 from .errors import InputError, PipelineWarning, PoorFitWarning
-from .record import adc_step, channel
+from .record import adc_step, channel, time_variable
 from .smooth import fit_window
 from .window import ContactWindow
 
@@ -258,11 +259,10 @@ def cumulative_percussion(
     t, F = _pad(t, F, t_start, t_end)
     P = _cumulative(t, F, method)
     return xr.DataArray(
-        P,
-        coords={"time": ("time", t, {"units": "s"})},
+        time_variable(P, {"units": "N s", "long_name": f"percussion ({method})"}),
+        coords={"time": time_variable(pd.Index(t), {"units": "s"})},
         dims="time",
         name="P",
-        attrs={"units": "N s", "long_name": f"percussion ({method})"},
     )
 
 

@@ -25,6 +25,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pandas as pd
 import xarray as xr
 
 from .errors import InputError
@@ -96,31 +97,35 @@ def make_record(
     for name, values in forces.items():
         if name not in FORCE_CHANNELS:
             raise InputError(f"unknown force channel {name!r}; expected one of {FORCE_CHANNELS}")
-        data_vars[name] = (
-            "time",
-            np.asarray(values, dtype=float),
-            {"units": "N", "long_name": _LONG_NAMES[name]},
+        data_vars[name] = time_variable(
+            np.asarray(values, dtype=float), {"units": "N", "long_name": _LONG_NAMES[name]}
         )
     for name, mask in (measured or {}).items():
-        data_vars[f"{name}_measured"] = (
-            "time",
-            np.asarray(mask, dtype=bool),
-            {"long_name": f"instants at which {name} was digitised"},
+        data_vars[f"{name}_measured"] = time_variable(
+            np.asarray(mask, dtype=bool), {"long_name": f"instants at which {name} was digitised"}
         )
     for name, (values, units, long_name) in (extra or {}).items():
-        data_vars[name] = (
-            "time",
-            np.asarray(values, dtype=float),
-            {"units": units, "long_name": long_name},
+        data_vars[name] = time_variable(
+            np.asarray(values, dtype=float), {"units": units, "long_name": long_name}
         )
     ds = xr.Dataset(
         data_vars,
-        coords={"time": ("time", t, {"units": "s", "long_name": "time"})},
+        coords={"time": time_variable(pd.Index(t), {"units": "s", "long_name": "time"})},
         attrs=dict(attrs or {}),
     )
     ds.attrs.setdefault("sha256", "")
     validate(ds)
     return ds
+
+
+def time_variable(values: np.ndarray | pd.Index, attrs: dict) -> xr.Variable:
+    """A variable on ``time`` from a NumPy array of floats or booleans (the coordinate: a
+    pandas Index of them), built as xarray builds its own, without its probe for duck
+    arrays: that probe (``array_type("dask")`` on a new Variable's data, and
+    ``is_duck_dask_array`` on a new index's) imports dask wherever it is installed, ~0.3 s
+    of a first fit's, though a record is NumPy throughout. A process that uses dask imports
+    it as before (tests/test_imports.py)."""
+    return xr.Variable(("time",), values, attrs, fastpath=True)
 
 
 def channel(record: xr.Dataset, name: str) -> tuple[np.ndarray, np.ndarray]:

@@ -475,7 +475,11 @@ def apply_window(record: xr.Dataset, window: ContactWindow) -> xr.Dataset:
     for name, base in window.baseline.items():
         if name in out.data_vars and (base.offset != 0 or base.slope != 0):
             var = out.variables[name]
-            var.values = var.values - base(t[idx])
+            # a Variable of NumPy values, not .values set: xarray would probe them for a
+            # dask array, importing dask (pipeline.record.time_variable)
+            out[name] = xr.Variable(
+                var.dims, var.values - base(t[idx]), var.attrs, var.encoding, fastpath=True
+            )
             removed = True
     out.attrs.update(
         window_t_start=float(window.t_start),

@@ -11,9 +11,17 @@ through a chain, fails with the chain and the lines that close it. The notebook 
 from __future__ import annotations
 
 import ast
+import importlib.util
+import json
+import os
+import subprocess
+import sys
 from pathlib import Path
 
+import pytest
+
 PACKAGE = Path(__file__).resolve().parents[1] / "pipeline"
+SAMPLE = PACKAGE.parent / "data_samples" / "gr_30deg_0.6ms.csv"
 
 
 def module_files(root: Path) -> dict[str, tuple[Path, bool]]:
@@ -123,3 +131,51 @@ def test_a_cycle_is_found_however_it_is_hidden(tmp_path):
     assert set(find_cycle(import_graph(pkg))) == {"pkg.sub", "pkg.sub.c"}
     (pkg / "sub" / "c.py").write_text("import math\n")
     assert find_cycle(import_graph(pkg)) is None
+
+
+#: Installed (the dev and campaign extras) but never used by a fit: xarray imports dask on
+#: its first new Variable where dask is installed (~0.3 s of a first fit's) unless the
+#: record is built without its probe for duck arrays (pipeline.record.time_variable).
+UNUSED_BY_A_FIT = ("dask", "distributed", "h5py", "h5netcdf", "bokeh", "nbformat", "sphinx")
+
+_FIT_THEN_DASK = """
+import contextlib, io, json, sys
+from pipeline.cli import main
+with contextlib.redirect_stdout(io.StringIO()) as out:
+    status = main(["fit", sys.argv[1]])
+after_fit = sorted({m.split(".")[0] for m in sys.modules} & set(sys.argv[2:]))
+# a user's dask in the same process, after the fit: xarray still sees dask arrays
+import dask.array as da
+import numpy as np
+import xarray as xr
+from pipeline.record import make_record
+from pipeline.window import apply_window, find_contact
+rec = make_record(np.arange(6.0), {"Fn": np.arange(6.0)}, attrs={"source": "s", "format": "f"})
+lazy = rec.chunk({"time": 3})
+x = xr.DataArray(da.ones(4, chunks=2), dims="x")
+print(json.dumps({"status": status, "report": out.getvalue()[:200], "after_fit": after_fit,
+                  "chunks": lazy.chunks["time"], "lazy_sum": float(lazy["Fn"].sum()),
+                  "dask_sum": float((2 * x).sum())}))
+"""
+
+
+def test_a_fit_from_the_command_line_imports_nothing_it_does_not_use():
+    """``pipeline fit`` in a fresh process imports neither dask nor the report and export
+    stacks (a first fit costs its imports, docs/benchmarks.md); dask, imported afterwards in
+    the same process, still backs xarray objects (a chunked record, a dask DataArray)."""
+    if importlib.util.find_spec("dask") is None:  # pragma: no cover - installed by [dev]
+        pytest.skip("dask is not installed: nothing could import it")
+    out = subprocess.run(
+        [sys.executable, "-c", _FIT_THEN_DASK, str(SAMPLE), *UNUSED_BY_A_FIT],
+        capture_output=True,
+        text=True,
+        cwd=PACKAGE.parent,
+        check=True,
+        env=dict(os.environ, OPENBLAS_NUM_THREADS="1"),
+    )
+    got = json.loads(out.stdout)
+    assert got["status"] == 0 and got["report"].startswith("Contact fit of gr_30deg_0.6ms.csv")
+    assert got["after_fit"] == []
+    assert got["chunks"] == [3, 3]
+    assert got["lazy_sum"] == pytest.approx(15.0, abs=1e-12)  # 0 + 1 + ... + 5
+    assert got["dask_sum"] == pytest.approx(8.0, abs=1e-12)

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+import xarray as xr
 from scipy import integrate
 
 from pipeline.contact import hertz_impact, hertz_pulse
@@ -150,6 +151,57 @@ def test_apply_window_to_the_raw_record_reproduces_the_window_record():
     w = find_contact(rec)
     again = apply_window(rec, w)
     np.testing.assert_array_equal(again["Fn"].values, w.record["Fn"].values)
+
+
+def test_apply_window_subtracts_the_baselines_of_a_numpy_or_a_dask_record_alike():
+    """The window's samples minus each channel's baseline line, the input untouched; a
+    record whose variables are dask arrays (``.chunk()``) gives the same numbers."""
+    pytest.importorskip("dask.array")
+    rec = sensor_record(seed=4)
+    raw = rec.copy(deep=True)
+    w = find_contact(rec)
+    t = rec["time"].values
+    inside = (t >= w.t_start) & (t <= w.t_end)
+    for record in (rec, rec.chunk({"time": 500})):
+        out = apply_window(record, w)
+        np.testing.assert_array_equal(out["time"].values, t[inside])
+        for name in ("Fn", "Ft"):
+            b = w.baseline[name]
+            expected = rec[name].values[inside] - (b.offset + b.slope * (t[inside] - b.t_ref))
+            np.testing.assert_allclose(out[name].values, expected, rtol=0, atol=1e-9)
+            assert out[name].attrs == rec[name].attrs
+        assert out.attrs["baseline_removed"] == 1
+    xr.testing.assert_identical(rec, raw)
+
+
+def test_a_record_is_the_dataset_xarray_builds_from_the_same_arrays():
+    """make_record builds its variables without xarray's probe for duck arrays: the Dataset
+    is identical to the one xarray's own constructor makes (index, dtypes, attrs)."""
+    t = np.arange(5) * 1e-6
+    rec = make_record(
+        t,
+        {"Fn": [1, 2, 3, 4, 5], "Ft": np.zeros(5)},
+        attrs={"source": "s", "format": "f", "kind": "digitised"},
+        measured={"Fn": [1, 0, 1, 1, 0]},
+        extra={"V": (np.ones(5), "V", "voltage")},
+    )
+    plain = xr.Dataset(
+        {
+            "Fn": ("time", np.arange(1.0, 6.0), {"units": "N", "long_name": rec.Fn.long_name}),
+            "Ft": ("time", np.zeros(5), {"units": "N", "long_name": rec.Ft.long_name}),
+            "Fn_measured": (
+                "time",
+                np.array([1, 0, 1, 1, 0], dtype=bool),
+                {"long_name": "instants at which Fn was digitised"},
+            ),
+            "V": ("time", np.ones(5), {"units": "V", "long_name": "voltage"}),
+        },
+        coords={"time": ("time", t, {"units": "s", "long_name": "time"})},
+        attrs={"source": "s", "format": "f", "kind": "digitised", "sha256": ""},
+    )
+    xr.testing.assert_identical(rec, plain)
+    assert rec.indexes["time"].equals(plain.indexes["time"])
+    assert rec.Fn_measured.dtype == bool and rec.Fn.dtype == np.float64
 
 
 def test_window_on_the_sensor_model_output():
