@@ -463,24 +463,25 @@ def apply_window(record: xr.Dataset, window: ContactWindow) -> xr.Dataset:
     if idx.size and idx[-1] - idx[0] + 1 == idx.size:  # sorted times: one slice
         idx = slice(int(idx[0]), int(idx[-1]) + 1)
     # select first, then copy: only the window's samples are copied (the input stays as is);
-    # the variables' data and every attrs copied one by one, the time index (immutable)
-    # shared — what copy(deep=True) gives, at a third of its cost
-    out = record.isel(time=idx).copy(deep=False)
-    for name, var in out.variables.items():
-        if name not in out.xindexes:
-            var.values = np.array(var.values, copy=True)
-        var.attrs = copy.deepcopy(var.attrs)
-    out.attrs = copy.deepcopy(record.attrs)
+    # each variable's data and attrs copied (or its baseline subtracted) into a new
+    # Variable, the time index (immutable) shared — what copy(deep=True) gives, cheaper.
+    # New Variables, not .values set: xarray would probe the arrays set for dask arrays,
+    # importing dask (pipeline.record.time_variable).
+    sel = record.isel(time=idx)
     removed = False
-    for name, base in window.baseline.items():
-        if name in out.data_vars and (base.offset != 0 or base.slope != 0):
-            var = out.variables[name]
-            # a Variable of NumPy values, not .values set: xarray would probe them for a
-            # dask array, importing dask (pipeline.record.time_variable)
-            out[name] = xr.Variable(
-                var.dims, var.values - base(t[idx]), var.attrs, var.encoding, fastpath=True
-            )
+    data_vars, coords = {}, {}
+    for name, var in sel.variables.items():
+        base = window.baseline.get(name) if name in sel.data_vars else None
+        if name in sel.xindexes:
+            new = var.copy(deep=False)
+        elif base is not None and (base.offset != 0 or base.slope != 0):
+            new = xr.Variable(var.dims, var.values - base(t[idx]), fastpath=True)
             removed = True
+        else:
+            new = xr.Variable(var.dims, np.array(var.values, copy=True), fastpath=True)
+        new.attrs, new.encoding = copy.deepcopy(var.attrs), dict(var.encoding)
+        (coords if name in sel.coords else data_vars)[name] = new
+    out = xr.Dataset(data_vars, coords=coords, attrs=copy.deepcopy(record.attrs))
     out.attrs.update(
         window_t_start=float(window.t_start),
         window_t_end=float(window.t_end),
