@@ -128,9 +128,16 @@ def time_variable(values: np.ndarray | pd.Index, attrs: dict) -> xr.Variable:
     return xr.Variable(("time",), values, attrs, fastpath=True)
 
 
+def times(record: xr.Dataset) -> np.ndarray:
+    """The record's instants [s], read from its time index (read-only; xarray's own read of
+    the coordinate converts the index anew each time, at tens of µs a read)."""
+    index = record.xindexes.get("time")
+    return record.variables["time"].values if index is None else index.index.values
+
+
 def channel(record: xr.Dataset, name: str) -> tuple[np.ndarray, np.ndarray]:
     """The instants [s] and values [N] at which channel ``name`` was actually measured."""
-    t = record.variables["time"].values
+    t = times(record)
     f = record.variables[name].values
     mask_name = f"{name}_measured"
     if mask_name in record:

@@ -119,7 +119,7 @@ from .errors import (
     caller_level,
 )
 from .precision import reading
-from .record import FORCE_CHANNELS, KINDS, adc_step, channel
+from .record import FORCE_CHANNELS, KINDS, adc_step, channel, times
 
 __all__ = [
     "Baseline",
@@ -456,7 +456,7 @@ def apply_window(record: xr.Dataset, window: ContactWindow) -> xr.Dataset:
         A new record: forces minus baseline [N], samples with t_start ≤ t ≤ t_end, attrs
         ``window_t_start``, ``window_t_end`` [s] and ``baseline_removed`` (0/1) added.
     """
-    t = record.variables["time"].values
+    t = times(record)
     # a tolerance of a few ulp keeps samples that sit exactly on the window's ends
     tol = 4 * np.finfo(float).eps * max(abs(window.t_start), abs(window.t_end), 1e-300)
     idx = np.flatnonzero((t >= window.t_start - tol) & (t <= window.t_end + tol))
@@ -579,7 +579,7 @@ def _finish(record, t_start, t_end, kind, noise, baseline, threshold, peak):
 
 
 def _passthrough(record):
-    t = record.variables["time"].values
+    t = times(record)
     tf, fn = channel(record, "Fn")
     if -np.min(fn) > max(np.max(fn), 0.0):
         raise SignFlipError(
@@ -607,7 +607,7 @@ def _passthrough(record):
 
 
 def _simulated(record):
-    t = record.variables["time"].values
+    t = times(record)
     fn = record.variables["Fn"].values
     pos = np.flatnonzero(fn > 0)
     src = record.attrs.get("source")
@@ -709,7 +709,7 @@ def _ends(t, r, a, b):
 def _repair_spikes(record, false_alarm):
     """(the record with every channel's spikes repaired, the spikes) — the record itself
     where there are none (:func:`find_spikes`; uniformly sampled channels only)."""
-    t = record.variables["time"].values
+    t = times(record)
     dt = np.diff(t)
     if t.size < 20 or np.ptp(dt) > 1e-6 * np.mean(dt):
         return record, ()
@@ -739,7 +739,7 @@ def _sensor(record, *, k, false_alarm, guard, max_iter):
     src = record.attrs.get("source")
     raw_fn = record.variables["Fn"].values
     record, spikes = _repair_spikes(record, false_alarm)
-    t = record.variables["time"].values
+    t = times(record)
     y = record.variables["Fn"].values
     n = t.size
     if n < 20:
@@ -1118,7 +1118,7 @@ def _check_truncated(found, t, r, sigma, src):
 
 def _check_clipping(record, found, outside, src):
     """ClippedSignalError when Fn or Ft sits at its extreme over a flat run in the pulse."""
-    t = record.variables["time"].values
+    t = times(record)
     for c in ("Fn", "Ft"):
         if c not in record:
             continue

@@ -312,17 +312,18 @@ def _trend(t):
 def _explained(X, t, w, s, trend):
     """χ² the damped sinusoid e^{−s t}·(a cos ωt + b sin ωt), one (a, b) per channel,
     explains in the unit-variance segments, the columns of ``X`` (n, channels), beyond their
-    quadratic ``trend``: the squared projection of each column on the two (trend-free)
-    columns of the sinusoid, orthonormalised by Gram–Schmidt (two columns a few cycles
-    long are far from parallel; a QR's general machinery costs ten times more a call, and
-    the screen's search makes a hundred)."""
-    env = np.exp(-s * t)
-    B = np.stack([env * np.cos(w * t), env * np.sin(w * t)])
-    B = B - (B @ trend) @ trend.T
-    q1 = B[0] / math.sqrt(B[0] @ B[0])
-    v = B[1] - (q1 @ B[1]) * q1
-    q2 = v / math.sqrt(v @ v)
-    return float(np.sum((q1 @ X) ** 2) + np.sum((q2 @ X) ** 2))
+    quadratic ``trend``: the squared projection of each column on the sinusoid's two
+    (trend-free) columns, through their 2×2 Gram matrix — the pair as one complex
+    exponential, z = e^{(iω − s)t} (its real and imaginary parts), a few cycles long and so
+    far from parallel; a QR's general machinery costs ten times more a call, and the
+    screen's search makes a couple of hundred."""
+    z = np.exp((1j * w - s) * t)
+    z = z - trend @ (trend.T @ z)
+    zr, zi = z.real, z.imag
+    a, b, c = zr @ zr, zr @ zi, zi @ zi
+    p = z @ X  # (channels,): the columns' products with both, as real and imaginary parts
+    pr, pi = p.real, p.imag
+    return float(np.sum(c * pr * pr - 2.0 * b * pr * pi + a * pi * pi) / (a * c - b * b))
 
 
 def ringing_threshold(n: int, channels: int, false_alarm: float = FALSE_ALARM) -> float:
