@@ -239,11 +239,13 @@ class PlasticPulses:
         n = self.n_steps
         h = imp.tau_c[:, None] / n
         tau = h * np.arange(n + 1)
-        x, u, f, df = imp.state(tau)
+        g = 0.5 + np.array([-1.0, 1.0]) * np.sqrt(3.0) / 6.0  # Gauss–Legendre points
+        # the nodes and both Gauss points of every step in one evaluation of the state
+        x, u, f, df = imp.state(np.concatenate([tau] + [tau[:, :-1] + gi * h for gi in g], 1))
+        xg = np.stack([x[:, n + 1 : 2 * n + 1], x[:, 2 * n + 1 :]], axis=1)
+        x, u, f, df = (a[:, : n + 1] for a in (x, u, f, df))
         x[:, 0], u[:, 0], f[:, 0] = 0.0, 1.0, 0.0
         f[:, -1] = 0.0  # the contact ends where the force does (at δ_p > 0)
-        g = 0.5 + np.array([-1.0, 1.0]) * np.sqrt(3.0) / 6.0  # Gauss–Legendre points
-        xg = np.stack([imp.state(tau[:, :-1] + gi * h)[0] for gi in g], axis=1)
         return NormalPulse(
             e=e,
             tau_c=imp.tau_c,
