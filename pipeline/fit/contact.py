@@ -121,6 +121,7 @@ class _Single(Design):
         self.data, self.law, self.use_alpha = data, law, use_alpha
         self.names = tuple("alpha" if (n == "e" and use_alpha) else n for n in PARAMS)
         self.scale = param_scales(data)
+        self.constant_dlocal = not use_alpha  # the identity's columns
 
     def local(self, theta):
         P = np.array(theta, dtype=float, copy=True)

@@ -47,6 +47,9 @@ class Design:
 
     names: tuple = ()
     scale: np.ndarray
+    #: ∂P/∂θ is the same at every θ (a design linear in θ): the Problem works out the
+    #: chain rule's structure once
+    constant_dlocal: bool = False
 
     def local(self, theta: np.ndarray) -> list:
         """θ, shape (B, p) → one (B, 6) array of local parameters per record."""
@@ -93,6 +96,7 @@ class Problem:
         self.prior_sigma = np.array([priors[k][1] for k in self.prior_index], dtype=float)
         self.n_calls = 0
         self._last = None
+        self._dlocal = None  # (rows, the chain rule's structure) of a constant design
         self.solutions = None  # per record, of the last evaluation's rows (model's type)
 
     # ---------------------------------------------------------------- evaluation
@@ -108,18 +112,31 @@ class Problem:
         if not jacobian:
             res, self.solutions = self.model.residuals(self.datas, Ps)
             return self._with_priors(np.concatenate(res, axis=1), Theta), None
-        dP = self.design.dlocal(Theta, self.vary)
-        active = [np.flatnonzero(np.any(D != 0, axis=(0, 2))) for D in dP]
+        dP, active, sels = self._chain(Theta)
         res, Jls, sols = local_jacobians(self.model, self.datas, Ps, active)
         self.solutions = sols
         J_all = [
             Jl[:, sel].transpose(0, 2, 1)
-            if (sel := _selection(D)) is not None
+            if sel is not None
             else np.einsum("bln,blv->bnv", Jl[:, act], D[:, act, :])
-            for Jl, act, D in zip(Jls, active, dP, strict=True)
+            for Jl, act, D, sel in zip(Jls, active, dP, sels, strict=True)
         ]
         r, J = np.concatenate(res, axis=1), np.concatenate(J_all, axis=1)
         return self._with_priors(r, Theta, J)
+
+    def _chain(self, Theta):
+        """∂P/∂θ_vary per record at the rows of Θ, the local parameters each depends on, and
+        each record's selection (:func:`_selection`); kept for a design whose derivative is
+        constant (:attr:`Design.constant_dlocal`), per number of rows."""
+        B = Theta.shape[0]
+        if self._dlocal is not None and self._dlocal[0] == B:
+            return self._dlocal[1]
+        dP = self.design.dlocal(Theta, self.vary)
+        active = [np.flatnonzero(np.any(D != 0, axis=(0, 2))) for D in dP]
+        out = (dP, active, [_selection(D) for D in dP])
+        if self.design.constant_dlocal:
+            self._dlocal = (B, out)
+        return out
 
     @property
     def n_rows(self) -> int:
