@@ -462,26 +462,30 @@ def apply_window(record: xr.Dataset, window: ContactWindow) -> xr.Dataset:
     idx = np.flatnonzero((t >= window.t_start - tol) & (t <= window.t_end + tol))
     if idx.size and idx[-1] - idx[0] + 1 == idx.size:  # sorted times: one slice
         idx = slice(int(idx[0]), int(idx[-1]) + 1)
-    # select first, then copy: only the window's samples are copied (the input stays as is);
-    # each variable's data and attrs copied (or its baseline subtracted) into a new
-    # Variable, the time index (immutable) shared — what copy(deep=True) gives, cheaper.
-    # New Variables, not .values set: xarray would probe the arrays set for dask arrays,
-    # importing dask (pipeline.record.time_variable).
+    # select first, then copy: only the window's samples are copied (the input stays as is).
+    # Data never set through .values, which has xarray probe the arrays for dask arrays and
+    # so import dask (pipeline.record.time_variable): a deep copy of the selection (the
+    # record's attrs set aside: copied below, the immutable ones shared), the baseline
+    # subtracted in place from an array in memory, else (lazily loaded, dask) by a new
+    # Variable
     sel = record.isel(time=idx)
+    sel.attrs = {}
+    out = sel.copy(deep=True)
     removed = False
-    data_vars, coords = {}, {}
-    for name, var in sel.variables.items():
-        base = window.baseline.get(name) if name in sel.data_vars else None
-        if name in sel.xindexes:
-            new = var.copy(deep=False)
-        elif base is not None and (base.offset != 0 or base.slope != 0):
-            new = xr.Variable(var.dims, var.values - base(t[idx]), fastpath=True)
-            removed = True
+    for name in list(out.data_vars):
+        base = window.baseline.get(name)
+        if base is None or (base.offset == 0 and base.slope == 0):
+            continue
+        removed = True
+        var = out.variables[name]
+        data = var.data
+        if type(data) is np.ndarray and data.flags.writeable and data is var.data:
+            np.subtract(data, base(t[idx]), out=data)  # the copy's own array
         else:
-            new = xr.Variable(var.dims, np.array(var.values, copy=True), fastpath=True)
-        new.attrs, new.encoding = _copied(var.attrs), dict(var.encoding)
-        (coords if name in sel.coords else data_vars)[name] = new
-    out = xr.Dataset(data_vars, coords=coords, attrs=_copied(record.attrs))
+            new = xr.Variable(var.dims, var.values - base(t[idx]), fastpath=True)
+            new.attrs, new.encoding = var.attrs, dict(var.encoding)
+            out[name] = new
+    out.attrs = _copied(record.attrs)
     out.attrs.update(
         window_t_start=float(window.t_start),
         window_t_end=float(window.t_end),
