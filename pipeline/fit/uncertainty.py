@@ -219,16 +219,16 @@ def block_bootstrap(
     p = problem.vary.size - problem.prior_index.size
     p += sum(d.n_nuisance for d in problem.datas)
     inflate = math.sqrt(n / max(n - p, 1))
-    new_r = np.empty((n_boot, n))
-    blocks = {}
+    parts, blocks = [], {}
     start = 0
     for i, d in enumerate(problem.datas):
         for c in d.channels:
             seg = r[start : start + c.t.size]
             b = block_length(seg)
             blocks[f"{i}:{c.name}"] = b
-            new_r[:, start : start + c.t.size] = _circular_blocks(rng, seg - seg.mean(), b, n_boot)
+            parts.append(_circular_blocks(rng, seg - seg.mean(), b, n_boot))
             start += c.t.size
+    new_r = parts[0] if len(parts) == 1 else np.concatenate(parts, axis=1)  # (n_boot, n)
     Theta0 = np.repeat(np.asarray(theta, float)[None, :], n_boot, axis=0)
     if iters > 0:
         # y* = model + σ·r*: in weighted units the data change by r* − r
@@ -242,7 +242,7 @@ def block_bootstrap(
     # they are: θ* = θ̂ − K·(inflate·r*, r_prior)
     v = problem.vary
     K = _pseudo_inverse(np.asarray(J, dtype=float)) if gain is None else gain
-    step = (inflate * new_r) @ K[:, :n].T + r[n:] @ K[:, n:].T
+    step = inflate * (new_r @ K[:, :n].T) + r[n:] @ K[:, n:].T
     Theta0[:, v] = np.clip(Theta0[:, v] - step, lower[v], upper[v])
     return Theta0, blocks
 
