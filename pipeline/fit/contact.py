@@ -1119,11 +1119,14 @@ def _warm_start(fit, model, vary) -> dict:
     parameters in ``vary``.
 
     The same law: ``fit``'s contact parameters. Another law: its pulse started where
-    ``fit``'s lies — the same restitution (every law's percussion is (1 + e)·m*·v0), and
-    the time scale and onset that give the same centroid and RMS width (the moments
-    :func:`_start` matches on the record, here on the fitted, noise-free pulse:
-    E* ∝ T^(−5/2) at one speed); μ and ``kt_scale`` as fitted. Another filter order delays
-    the pulse differently: the onset moves by the difference of the delays."""
+    ``fit``'s lies — first the same restitution (every law's percussion is (1 + e)·m*·v0)
+    and the time scale and onset that give the same centroid and RMS width (the moments
+    :func:`_start` matches on the record), then the restitution, time scale and onset whose
+    pulse is closest to the fitted, noise-free one in least squares
+    (:func:`_shape_match`; E* ∝ T^(−5/2) at one speed): the law's own fit then starts a
+    fraction of a standard error from its optimum. μ and ``kt_scale`` as fitted. Another
+    filter order delays the pulse differently: the onset moves by the difference of the
+    delays."""
     theta = dict(zip(fit.names, (float(v) for v in fit.theta), strict=True))
     out = {n: theta[n] for n in ("E_eff", "e", "alpha", "mu", "kt_scale", "t0") if n in theta}
     if model.normal != fit.normal and fit.normal is not None and model.normal is not None:
@@ -1131,11 +1134,61 @@ def _warm_start(fit, model, vary) -> dict:
         e = min(max(e, E_MIN), 1.0)
         mean, width, _ = _pulse_moments(fit.normal, e, fit.model.n_steps)
         mean_l, width_l, _ = _pulse_moments(model.normal, e, model.n_steps)
+        lam = width / width_l
+        e_l, lam, shift = _shape_match(
+            fit.model, fit.normal, e, model.normal, lam, mean - mean_l * lam, "e" in vary
+        )
         ds, T, Fs, v0 = (float(a[0]) for a in fit.model.scales(fit.data, fit._P()))
-        T_l = T * width / width_l
-        out.update(e=e, E_eff=theta["E_eff"] * (T / T_l) ** 2.5)
-        out["t0"] = theta["t0"] + mean * T - mean_l * T_l
+        out.update(e=e_l, E_eff=theta["E_eff"] * lam**-2.5, t0=theta["t0"] + shift * T)
     return {n: v for n, v in out.items() if n in vary}
+
+
+def _shape_match(model, law, e, other, lam, shift, free_e) -> tuple[float, float, float]:
+    """(e′, λ, c): ``other``'s dimensionless pulse f′((τ − c)/λ; e′)/λ closest in least
+    squares to ``law``'s f(τ; e) (both on ``model``'s steps; τ in δ*/v0 of ``law``'s pulse),
+    from λ and c given and e′ = e (e′ held there unless ``free_e``): the other law's pulse
+    as the record shows it, its time scale λ·T and onset c·T from ``law``'s T and onset
+    (force × time = m*·v0 for both, so f′ scales as 1/λ). A few Gauss–Newton steps on a
+    grid of 4·n_steps instants, f′ linear in e′ between the pulses at e and e ± 0.01 (one
+    table lookup): a start, not a fit — the law's fit refines it."""
+    n = model.n_steps
+    base = normal_pulse(law, e, n)
+    tc = float(base.tau_c[0])
+    tau = np.linspace(-0.25 * tc, 1.5 * tc, 4 * n)
+    target = model._true_forces(Solution(base, None, np.zeros(1, int)), tau[None, :], False)[0][0]
+    h = (-0.01 if e + 0.01 > 1.0 else 0.01) if free_e else 0.0
+    pul = normal_pulse(other, [e, e + h], n)
+    pair = np.tile([0, 1], 4)
+
+    def model_rows(P):  # P (k, 3): e′ as a fraction of the step h, λ, c → (k, instants)
+        s = np.repeat((tau[None, :] - P[:, 2:3]) / P[:, 1:2], 2, axis=0)
+        f = model._true_forces(Solution(pul, None, pair[: s.shape[0]]), s, False)[0]
+        return (f[0::2] + P[:, :1] * (f[1::2] - f[0::2])) / P[:, 1:2]
+
+    cols = [0, 1, 2] if free_e else [1, 2]
+    lo, hi = sorted(((E_MIN - e) / h, (1.0 - e) / h)) if h else (0.0, 0.0)
+    steps = np.array([1.0, 1e-6 * lam, 1e-6 * tc])  # linear in the first: exact
+    p = np.array([0.0, lam, shift])
+    r = target - model_rows(p[None])[0]
+    chi2 = float(r @ r)
+    for _ in range(6):
+        P = np.repeat(p[None], 4, axis=0)
+        P[1:] += np.diag(steps)
+        F = model_rows(P)
+        J = (F[1:] - F[:1])[cols] / steps[cols, None]
+        d = np.linalg.lstsq(J.T, target - F[0], rcond=None)[0]
+        trial = p.copy()
+        trial[cols] += d
+        trial[0] = min(max(trial[0], lo), hi)  # e′ in [E_MIN, 1]
+        if not trial[1] > 0:
+            break
+        rt = target - model_rows(trial[None])[0]
+        if not float(rt @ rt) < chi2:
+            break
+        p, chi2 = trial, float(rt @ rt)
+        if np.all(np.abs(d) <= 1e-6 * np.array([1.0, lam, tc])[cols]):
+            break
+    return e + p[0] * h, float(p[1]), float(p[2])
 
 
 @functools.lru_cache(maxsize=1024)
