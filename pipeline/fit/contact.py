@@ -1148,46 +1148,42 @@ def _shape_match(model, law, e, other, lam, shift, free_e) -> tuple[float, float
     squares to ``law``'s f(τ; e) (both on ``model``'s steps; τ in δ*/v0 of ``law``'s pulse),
     from λ and c given and e′ = e (e′ held there unless ``free_e``): the other law's pulse
     as the record shows it, its time scale λ·T and onset c·T from ``law``'s T and onset
-    (force × time = m*·v0 for both, so f′ scales as 1/λ). A few Gauss–Newton steps on a
-    grid of 4·n_steps instants, f′ linear in e′ between the pulses at e and e ± 0.01 (one
-    table lookup): a start, not a fit — the law's fit refines it."""
+    (force × time = m*·v0 for both, so f′ scales as 1/λ). Two Gauss–Newton steps on a
+    grid of 2·n_steps instants, f′ linear in e′ between the pulses at e and e ± 0.01 (one
+    table lookup); kept where they lower the misfit. A start, not a fit: the law's fit
+    refines it."""
     n = model.n_steps
     base = normal_pulse(law, e, n)
     tc = float(base.tau_c[0])
-    tau = np.linspace(-0.25 * tc, 1.5 * tc, 4 * n)
+    tau = np.linspace(-0.25 * tc, 1.5 * tc, 2 * n + 1)
     target = model._true_forces(Solution(base, None, np.zeros(1, int)), tau[None, :], False)[0][0]
     h = (-0.01 if e + 0.01 > 1.0 else 0.01) if free_e else 0.0
-    pul = normal_pulse(other, [e, e + h], n)
-    pair = np.tile([0, 1], 4)
+    sol = Solution(normal_pulse(other, [e, e + h], n), None, np.array([0, 1]))
 
-    def model_rows(P):  # P (k, 3): e′ as a fraction of the step h, λ, c → (k, instants)
-        s = np.repeat((tau[None, :] - P[:, 2:3]) / P[:, 1:2], 2, axis=0)
-        f = model._true_forces(Solution(pul, None, pair[: s.shape[0]]), s, False)[0]
-        return (f[0::2] + P[:, :1] * (f[1::2] - f[0::2])) / P[:, 1:2]
+    def fitted(p):  # p = (e′ as a fraction of the step h, λ, c): the model and its Jacobian
+        t, lam_, c = p
+        arg = (tau - c) / lam_
+        f, _, g, _ = model._true_forces(sol, np.stack([arg, arg]), False, nderiv=2)
+        m = (f[0] + t * (f[1] - f[0])) / lam_
+        rate = (g[0] + t * (g[1] - g[0])) / lam_**2
+        return m, np.stack([(f[1] - f[0]) / lam_, -m / lam_ - arg * rate, -rate])
 
     cols = [0, 1, 2] if free_e else [1, 2]
     lo, hi = sorted(((E_MIN - e) / h, (1.0 - e) / h)) if h else (0.0, 0.0)
-    steps = np.array([1.0, 1e-6 * lam, 1e-6 * tc])  # linear in the first: exact
-    p = np.array([0.0, lam, shift])
-    r = target - model_rows(p[None])[0]
-    chi2 = float(r @ r)
-    for _ in range(6):
-        P = np.repeat(p[None], 4, axis=0)
-        P[1:] += np.diag(steps)
-        F = model_rows(P)
-        J = (F[1:] - F[:1])[cols] / steps[cols, None]
-        d = np.linalg.lstsq(J.T, target - F[0], rcond=None)[0]
-        trial = p.copy()
-        trial[cols] += d
-        trial[0] = min(max(trial[0], lo), hi)  # e′ in [E_MIN, 1]
-        if not trial[1] > 0:
-            break
-        rt = target - model_rows(trial[None])[0]
-        if not float(rt @ rt) < chi2:
-            break
-        p, chi2 = trial, float(rt @ rt)
-        if np.all(np.abs(d) <= 1e-6 * np.array([1.0, lam, tc])[cols]):
-            break
+    start = p = np.array([0.0, lam, shift])
+    chi2 = None
+    for _ in range(2):
+        m, J = fitted(p)
+        r = target - m
+        chi2 = float(r @ r) if chi2 is None else chi2
+        p = p.copy()
+        p[cols] += np.linalg.lstsq(J[cols].T, r, rcond=None)[0]
+        p[0] = min(max(p[0], lo), hi)  # e′ in [E_MIN, 1]
+        if not p[1] > 0:
+            return e, lam, shift
+    r = target - fitted(p)[0]
+    if not float(r @ r) < chi2:
+        p = start
     return e + p[0] * h, float(p[1]), float(p[2])
 
 
