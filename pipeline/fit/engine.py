@@ -134,7 +134,7 @@ class Problem:
         dP = self.design.dlocal(Theta, self.vary)
         active = [np.flatnonzero(np.any(D != 0, axis=(0, 2))) for D in dP]
         out = (dP, active, [_selection(D) for D in dP])
-        if self.design.constant_dlocal:
+        if getattr(self.design, "constant_dlocal", False):  # a design of Design's duck type too
             self._dlocal = (B, out)
         return out
 
