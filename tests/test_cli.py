@@ -8,13 +8,16 @@ data_samples/README.md).
 from __future__ import annotations
 
 import json
+import os
 import shutil
+import subprocess
+import sys
 import warnings
 from pathlib import Path
 
 import pytest
 
-from pipeline.cli import main
+from pipeline.cli import BLAS_THREADS, main
 
 SAMPLES = Path(__file__).resolve().parents[1] / "data_samples"
 MAIN = SAMPLES / "gr_15deg_0.6ms.csv"
@@ -303,3 +306,39 @@ def test_record_options_travel_as_json_with_absolute_paths(tmp_path, monkeypatch
         "sensitivity": {"Ft": [0.5, "mV/N"]},
     }
     assert json.loads(json.dumps(got)) == got
+
+
+_BLAS_AFTER_A_COMMAND = """
+import contextlib, io, json, os
+from threadpoolctl import threadpool_info
+from pipeline.cli import main
+with contextlib.redirect_stderr(io.StringIO()):
+    status = main(["fit", "no-such-record.csv"])
+print(json.dumps({"status": status, "env": os.environ.get("OPENBLAS_NUM_THREADS"),
+                  "threads": [i["num_threads"] for i in threadpool_info()
+                              if i["user_api"] == "blas"]}))
+"""
+
+
+@pytest.mark.parametrize("user", [None, "2"])
+def test_the_command_runs_on_one_blas_thread_unless_the_user_chose(user):
+    """A command limits the loaded BLAS to one thread, and sets the variable for the
+    processes it starts; a number the user set is left as it is."""
+    env = {k: v for k, v in os.environ.items() if k not in BLAS_THREADS}
+    if user is not None:
+        env["OPENBLAS_NUM_THREADS"] = user
+    out = subprocess.run(
+        [sys.executable, "-c", _BLAS_AFTER_A_COMMAND],
+        capture_output=True,
+        text=True,
+        check=True,
+        env=env,
+    )
+    got = json.loads(out.stdout)
+    assert got["status"] == 2  # the record does not exist: bad input, after the limit
+    assert got["threads"], "no BLAS library loaded"
+    if user is None:
+        assert got["env"] == "1"
+        assert set(got["threads"]) == {1}
+    else:
+        assert got["env"] == user
