@@ -137,13 +137,23 @@ def run_fit(model, datas, design, init, vary, notes, *, n_boot=0, seed=0, priors
         th[where] = [p[n].value for n in order]
         return th
 
+    def finite(a, what):
+        # lmfit's nan_policy="raise", checked here (its check converts and sums every
+        # array it is handed, on each of a fit's dozen calls)
+        if not np.isfinite(a).all():
+            raise ValueError(
+                f"{model.name} fit: the model's {what} hold NaN or infinite values; "
+                "Levenberg–Marquardt cannot go on"
+            )
+        return a.copy()
+
     def fcn(p):
-        return problem.residual(theta_of(p)).copy()
+        return finite(problem.residual(theta_of(p)), "residuals")
 
     def dfun(p):
-        return problem.jacobian(theta_of(p)).copy()  # lmfit scales it in place
+        return finite(problem.jacobian(theta_of(p)), "derivatives")  # lmfit scales it in place
 
-    mini = lmfit.Minimizer(fcn, params, nan_policy="raise")
+    mini = lmfit.Minimizer(fcn, params, nan_policy="propagate")
     res = mini.leastsq(Dfun=dfun, col_deriv=0, ftol=_TOL, xtol=_TOL, max_nfev=2000)
     theta = theta_of(res.params)
     r, J = problem.residual(theta), problem.jacobian(theta)
