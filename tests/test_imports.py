@@ -138,12 +138,19 @@ def test_a_cycle_is_found_however_it_is_hidden(tmp_path):
 #: record is built without its probe for duck arrays (pipeline.record.time_variable).
 UNUSED_BY_A_FIT = ("dask", "distributed", "h5py", "h5netcdf", "bokeh", "nbformat", "sphinx")
 
+#: The package's own modules ``pipeline fit`` has no use for: the report stack (the record
+#: and its sidecar are read by pipeline.sidecar) and the exporters (``pipeline export``'s
+#: choices are spelled out in pipeline.cli.export).
+NOT_BY_A_FIT = ("pipeline.report", "pipeline.analysis", "pipeline.advice", "pipeline.export")
+
 _FIT_THEN_DASK = """
+NOT_BY_A_FIT = NAMES
 import contextlib, io, json, sys
 from pipeline.cli import main
 with contextlib.redirect_stdout(io.StringIO()) as out:
     status = main(["fit", sys.argv[1]])
 after_fit = sorted({m.split(".")[0] for m in sys.modules} & set(sys.argv[2:]))
+stages = sorted(m for m in sys.modules if m in NOT_BY_A_FIT)
 # a user's dask in the same process, after the fit: xarray still sees dask arrays
 import dask.array as da
 import numpy as np
@@ -154,15 +161,17 @@ rec = make_record(np.arange(6.0), {"Fn": np.arange(6.0)}, attrs={"source": "s", 
 lazy = rec.chunk({"time": 3})
 x = xr.DataArray(da.ones(4, chunks=2), dims="x")
 print(json.dumps({"status": status, "report": out.getvalue()[:200], "after_fit": after_fit,
+                  "stages": stages,
                   "chunks": lazy.chunks["time"], "lazy_sum": float(lazy["Fn"].sum()),
                   "dask_sum": float((2 * x).sum())}))
-"""
+""".replace("NAMES", repr(NOT_BY_A_FIT))
 
 
 def test_a_fit_from_the_command_line_imports_nothing_it_does_not_use():
-    """``pipeline fit`` in a fresh process imports neither dask nor the report and export
-    stacks (a first fit costs its imports, docs/benchmarks.md); dask, imported afterwards in
-    the same process, still backs xarray objects (a chunked record, a dask DataArray)."""
+    """``pipeline fit`` in a fresh process imports neither dask nor the package's report and
+    export stacks (a first fit costs its imports, docs/benchmarks.md); dask, imported
+    afterwards in the same process, still backs xarray objects (a chunked record, a dask
+    DataArray)."""
     if importlib.util.find_spec("dask") is None:  # pragma: no cover - installed by [dev]
         pytest.skip("dask is not installed: nothing could import it")
     out = subprocess.run(
@@ -176,6 +185,16 @@ def test_a_fit_from_the_command_line_imports_nothing_it_does_not_use():
     got = json.loads(out.stdout)
     assert got["status"] == 0 and got["report"].startswith("Contact fit of gr_30deg_0.6ms.csv")
     assert got["after_fit"] == []
+    assert got["stages"] == []
     assert got["chunks"] == [3, 3]
     assert got["lazy_sum"] == pytest.approx(15.0, abs=1e-12)  # 0 + 1 + ... + 5
     assert got["dask_sum"] == pytest.approx(8.0, abs=1e-12)
+
+
+def test_the_export_command_offers_the_exporters_targets():
+    """``pipeline export --to`` spells out its choices (registering it imports nothing):
+    they are :data:`pipeline.export.TARGETS`."""
+    from pipeline import export
+    from pipeline.cli import export as command
+
+    assert command.TARGETS == export.TARGETS

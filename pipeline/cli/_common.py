@@ -145,7 +145,7 @@ BIG_FILE = 64 << 20
 def read_record(path, args):
     """The record at ``path`` read with the command's options over its sidecar's; a file
     over :data:`BIG_FILE` bytes streamed, keeping only its first contact."""
-    from ..report import load_sample
+    from ..sidecar import load_sample
 
     try:
         big = Path(path).stat().st_size > BIG_FILE
@@ -167,7 +167,7 @@ def read_scene(record_path, scene_path=None, record=None):
         The scene and ``{field: source}``.
     """
     from ..io import scene_from_metadata
-    from ..report import sidecar_path
+    from ..sidecar import sidecar_path
     from ..scene import Scene, read_scene_fields
 
     fields, origin = {}, None
@@ -176,7 +176,7 @@ def read_scene(record_path, scene_path=None, record=None):
     else:
         side = sidecar_path(record_path)
         if side.exists() or side.is_symlink():
-            from ..report import read_sidecar
+            from ..sidecar import read_sidecar
 
             data = read_sidecar(record_path)
             if "scene" in data:

@@ -70,7 +70,7 @@ def _how(text):
 def run(args) -> int:
     from ..advice import advice_for
     from ..analysis import analyse
-    from ..report import read_sidecar
+    from ..sidecar import read_sidecar
 
     record = read_record(args.file, args)
     scene, sources = read_scene(args.file, args.scene, record)

@@ -14,10 +14,12 @@ from pathlib import Path
 
 from ._common import read_scene
 
+#: :data:`pipeline.export.TARGETS`, spelled out so that registering the command does not
+#: import the exporters (every command registers every subcommand; a test keeps the two equal).
+TARGETS = ("lammps", "liggghts", "yade", "mujoco")
+
 
 def register(sub) -> None:
-    from ..export import TARGETS
-
     p = sub.add_parser(
         "export",
         help="write a fitted contact as LAMMPS, LIGGGHTS, YADE or MuJoCo input",

@@ -45,7 +45,7 @@ def register(sub) -> None:
 
 def _sensor(args):
     from ..errors import InputError
-    from ..report import read_sidecar
+    from ..sidecar import read_sidecar
 
     if args.sensor is not None:
         try:

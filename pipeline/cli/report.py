@@ -61,7 +61,7 @@ def run(args) -> int:
         if args.file.suffix == ".nc":
             r = campaign_report(args.file, args.out, html=not args.no_html)
         else:
-            from ..report import load_sample
+            from ..sidecar import load_sample
 
             scene, _ = read_scene(args.file, args.scene, load_sample(args.file, **load))
             r = record_report(
