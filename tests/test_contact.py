@@ -95,6 +95,28 @@ def test_hc_round_trip_whole_range():
     np.testing.assert_allclose(contact.cor_hunt_crossley_family(c), e, atol=1e-12, rtol=0)
 
 
+def test_hc_newton_stops_at_two_adjacent_doubles(monkeypatch):
+    """e(c) over the range of the calibration's table (c from 1e-4 to 1e3): every element's
+    Newton iteration ends within a dozen steps, also where e lies in [0.5, 0.555) and the
+    relative tolerance 2e-16 is below half an ulp (the bracket ends as two adjacent doubles,
+    f of either sign by rounding) — before, those ran the 200 steps of the cap, each a pass
+    over the array, and a first fit waited ~15 ms on them; the relation c(1+e) =
+    ln[(1+c)/(1−c·e)] (docs/theory.md) holds at the result."""
+    from pipeline.contact import damping
+
+    calls = []
+    phi = damping._phi_reduced
+    monkeypatch.setattr(damping, "_phi_reduced", lambda x: calls.append(1) or phi(x))
+    c = np.geomspace(1e-4, 1e3, 400)
+    e = damping._hc_cor(c)
+    assert np.any((e >= 0.5) & (e < 0.555))
+    assert len(calls) <= 12
+    ok = c * e < 1 - 1e-3  # where 1 − c·e keeps the digits of the log
+    np.testing.assert_allclose(
+        c[ok] * (1 + e[ok]), np.log((1 + c[ok]) / (1 - c[ok] * e[ok])), rtol=1e-12
+    )
+
+
 def test_hc_near_elastic_limit_series():
     """As c → 0 the exact relation gives e = 1 − 2c/3 + 4c²/9 + O(c³) (expand the energy
     integral in c); the old root-finders lost this to cancellation."""

@@ -64,7 +64,9 @@ def _newton_increasing(fun, x0, lo, hi, rtol=2e-16, maxiter=200):
 
     ``fun(x, mask) -> (f, f')`` is evaluated on the still-active elements; the root lies
     in (lo, hi) (f(lo) < 0 < f(hi)); iterates leaving the bracket are replaced by its
-    midpoint, so every element converges.
+    midpoint, so every element converges: to a relative step of ``rtol``, or to a bracket
+    of two adjacent doubles (where ``rtol`` is below half an ulp of the root, as 2e-16 is
+    for roots in [0.5, 0.555)).
     """
     x, lo, hi = (np.array(a, dtype=float, copy=True) for a in np.broadcast_arrays(x0, lo, hi))
     active = np.ones(x.shape, dtype=bool)
@@ -82,7 +84,9 @@ def _newton_increasing(fun, x0, lo, hi, rtol=2e-16, maxiter=200):
         converged = zero | (np.abs(xn - xa) <= rtol * np.abs(xa))  # step below resolution
         bad = ~((xn > la) & (xn < ha)) & ~converged
         xn = np.where(bad, 0.5 * (la + ha), np.where(converged, xa, xn))
-        done = converged | (ha - la <= rtol * np.abs(ha))
+        # the bracket can narrow to two adjacent doubles and no further: there f is rounding
+        # noise of either sign and the step an ulp, so neither test above would ever pass
+        done = converged | (ha - la <= np.maximum(rtol * np.abs(ha), np.spacing(np.abs(ha))))
         x[idx], lo[idx], hi[idx] = xn, la, ha
         active[idx] = ~done
     return x
@@ -126,7 +130,8 @@ def _hc_cor(c):
 
 @functools.cache
 def _hc_table():
-    """(e, ln c) on a grid, for Newton starting values (solved once, ~1 ms)."""
+    """(e, ln c) on a grid, for Newton starting values (solved once, ~1 ms: a few Newton
+    steps; a first fit's cost)."""
     c = np.geomspace(1e-4, 1e3, 400)
     return _hc_cor(c)[::-1], np.log(c)[::-1]
 
