@@ -844,18 +844,19 @@ def _with_dynamics(fit, findings, record, scene, model, vary, t_begin, opts) -> 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", PipelineWarning)
         try:
-            alt = _fit_model(record, scene, model, vary, t_begin, {**opts, **extra}, None, found)
+            data = _prepare(record, scene, model, {**opts, **extra})  # once, for every trial
+            alt = _fit_model(record, scene, model, vary, t_begin, {**opts, **extra}, data, found)
             if findings.mode is not None:
                 # a ring of the pulse's own frequency leaves the joint problem many local
                 # optima: also started from the contact fitted with the mode held, the
                 # better of the two kept
                 held = {**opts, **extra, "n_boot": 0, "systematics": {}}
-                first = _fit_model(record, scene, model, vary, t_begin, held, None, None)
+                first = _fit_model(record, scene, model, vary, t_begin, held, data, None)
                 warm = dict(zip(first.names, map(float, first.theta), strict=True))
                 start = {**{n: warm[n] for n in vary if n in warm}, **(opts.get("start") or {})}
                 other = _fit_model(
                     record, scene, model, vary, t_begin, {**opts, **extra, "start": start},
-                    None, found,
+                    data, found,
                 )  # fmt: skip
                 alt = min(alt, other, key=lambda f: f.aic)
         except (InputError, np.linalg.LinAlgError):
