@@ -167,8 +167,8 @@ def read_scene(record_path, scene_path=None, record=None):
         The scene and ``{field: source}``.
     """
     from ..io import scene_from_metadata
-    from ..sidecar import sidecar_path
     from ..scene import Scene, read_scene_fields
+    from ..sidecar import sidecar_path
 
     fields, origin = {}, None
     if scene_path is not None:
