@@ -276,3 +276,61 @@ def test_the_joint_fit_in_an_executor_is_the_same_fit(constant_e):
     assert fit.chi2 == pytest.approx(blocks.chi2, rel=1e-12)
     for name in ("E_eff", "e", "mu_a", "mu_b", "kt_scale_0", "t0_2"):
         assert abs(fit.values[name] - blocks.values[name]) < 1e-9 * blocks.stderr[name], name
+
+
+def _retained_bytes(fit) -> int:
+    """Bytes of Python objects and arrays a joint fit's hypotheses hold, its record store
+    and forward model left out (they are on disk and shared): ``sys.getsizeof`` over every
+    object reachable from its fields, each counted once."""
+    import dataclasses
+    import sys
+    import types
+
+    leaves = (types.ModuleType, type, types.FunctionType, types.BuiltinFunctionType)
+    skip = {id(fit.datas), id(fit.model), id(fit.hypotheses)}
+    todo = [
+        getattr(f, fl.name)
+        for f in fit.hypotheses.values()
+        for fl in dataclasses.fields(f)
+        if fl.name not in ("datas", "model", "hypotheses")
+    ]
+    total = 0
+    while todo:
+        o = todo.pop()
+        if id(o) in skip or isinstance(o, leaves):
+            continue
+        skip.add(id(o))
+        total += sys.getsizeof(o)
+        if isinstance(o, np.ndarray):
+            todo += [] if o.base is None else [o.base]
+        else:
+            todo += gc.get_referents(o)
+    return total
+
+
+def test_the_joint_fit_keeps_a_few_numbers_a_record(constant_e):
+    """What a joint fit of one hypothesis keeps grows by at most 1 kB a record between 4
+    and 12 records (each record's summary, parameter names and values, covariance blocks
+    and misfit share: ~0.9 kB): no lmfit.Parameter a record — ``params`` is built when
+    read, then with the fit's values and standard errors. (lmfit's Parameter objects of
+    the three own parameters of a record took ~1.4 kB a record more, and were made at
+    every fit.)"""
+    import lmfit
+
+    _, scenes, recs = constant_e
+    sizes = {}
+    for k in (1, 3):
+        gc.collect()
+        before = sum(isinstance(o, lmfit.Parameter) for o in gc.get_objects())
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", PipelineWarning)
+            fit = fit_campaign(recs * k, scenes * k, mu_law="linear_vt0", hypotheses="one")
+        gc.collect()
+        assert sum(isinstance(o, lmfit.Parameter) for o in gc.get_objects()) == before
+        sizes[4 * k] = _retained_bytes(fit)
+    assert (sizes[12] - sizes[4]) / 8 < 1000
+    v, se = fit.values, fit.stderr
+    for name in ("E_eff", "mu_b", "t0_7"):
+        assert fit.params[name].value == pytest.approx(v[name], rel=1e-12)
+        assert fit.params[name].stderr == pytest.approx(se[name], rel=1e-12)
+    assert not fit.params["speed_3"].vary and len(fit.params) == len(fit.names)

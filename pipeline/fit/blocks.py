@@ -88,10 +88,11 @@ class BlockResult:
 
 def _blocks(design, theta, varied):
     """(shared, own): the varied global indices every record depends on, and each record's
-    own ones (the same count per record)."""
+    own ones, (R, p_o) (the same kinds for every record)."""
     shared = [k for k in design.shared_index() if varied[k]]
-    own = [[k for k in ks if varied[k]] for ks in design.own_index()]
-    return np.array(shared, dtype=int), [np.array(o, dtype=int) for o in own]
+    own = np.asarray(design.own_index(), dtype=int)
+    own = own[:, varied[own].all(axis=0)] if own.size else own.reshape(len(own), 0)
+    return np.array(shared, dtype=int), own
 
 
 def _moved(p, b):
@@ -112,7 +113,7 @@ def _dlocal(design, theta, shared, own, scale):
     record's own parameters of one kind perturbed at once (each moves only its own
     record)."""
     base = _rows(design, theta)
-    p_o = own[0].size if own else 0
+    p_o = own.shape[1]
     D = np.zeros(base.shape + (shared.size + p_o,))
     for j, k in enumerate(shared):
         h = 1e-7 * max(abs(theta[k]), scale[k])
@@ -120,7 +121,7 @@ def _dlocal(design, theta, shared, own, scale):
         th[k] += h
         D[:, :, j] = _moved(_rows(design, th), base) / h
     for j in range(p_o):
-        ks = np.array([o[j] for o in own])
+        ks = own[:, j]
         h = 1e-7 * np.maximum(np.abs(theta[ks]), scale[ks])
         th = theta.copy()
         th[ks] += h
@@ -266,7 +267,7 @@ class BlockCovariance:
         self._Css, self._X, self._M, self._where = Css, X, M, where
         self._XC = np.einsum("ras,st->rat", X, Css)  # X_i C_ss   (R, p_o, p_s)
         self._bad, self._scale = bad, float(scale)
-        self.shape = (len(where), len(where))
+        self.shape = (where.shape[1], where.shape[1])
 
     def __mul__(self, k):
         return BlockCovariance(
@@ -276,32 +277,30 @@ class BlockCovariance:
     __rmul__ = __mul__
 
     def __getitem__(self, key):
-        a, b = (self._where[int(i)] for i in key)
+        a, b = (int(i) for i in key)
         return self._scale * self._entry(a, b)
 
     def _entry(self, a, b):
-        if a is None or b is None:
+        """The unscaled entry (a, b): ``_where`` holds, for each varied parameter, its kind
+        (0 shared, 1 a record's own, -1 neither), then the shared index or the record and
+        its own index."""
+        (ka, ra, ia), (kb, rb, ib) = self._where[:, a], self._where[:, b]
+        if ka < 0 or kb < 0:
             return np.nan
-        if a[0] == "o" and b[0] == "o":
-            (_, r, i), (_, q, j) = a, b
-            if self._bad[r] or self._bad[q]:
+        if ka == 1 and kb == 1:
+            if self._bad[ra] or self._bad[rb]:
                 return np.nan
-            v = self._XC[r, i] @ self._X[q, j]
-            return v + (self._M[r, i, j] if r == q else 0.0)
-        if a[0] == "o" or b[0] == "o":
-            (_, r, i), (_, k) = (a, b) if a[0] == "o" else (b, a)
+            v = self._XC[ra, ia] @ self._X[rb, ib]
+            return v + (self._M[ra, ia, ib] if ra == rb else 0.0)
+        if ka == 1 or kb == 1:
+            r, i, k = (ra, ia, rb) if ka == 1 else (rb, ib, ra)
             return np.nan if self._bad[r] else -self._XC[r, i, k]
-        return self._Css[a[1], b[1]]
+        return self._Css[ra, rb]
 
     def toarray(self) -> np.ndarray:
         """The dense matrix (quadratic memory in the records)."""
         n = self.shape[0]
-        return (
-            np.array(
-                [[self._entry(self._where[i], self._where[j]) for j in range(n)] for i in range(n)]
-            )
-            * self._scale
-        )
+        return np.array([[self._entry(i, j) for j in range(n)] for i in range(n)]) * self._scale
 
     def __array__(self, dtype=None, copy=None):
         out = self.toarray()
@@ -309,19 +308,22 @@ class BlockCovariance:
 
 
 def _covariance(B, shared, own, varied_index):
-    """The covariance of the varied parameters (in ``varied_index`` order) from the blocks
-    at λ = 0, as a :class:`BlockCovariance` (module notes)."""
+    """The covariance of the varied parameters (in ``varied_index`` order, increasing) from
+    the blocks at λ = 0, as a :class:`BlockCovariance` (module notes)."""
     M, ok = _inverse(B["ll"], 0.0)
     S = B["ss"].sum(0) - np.einsum("rsa,rab,rtb->st", B["sl"], M, B["sl"])
     Css = _inverse(S[None], 0.0)[0][0]
     X = np.einsum("rab,rsb->ras", M, B["sl"])  # M_i H_ls,i   (R, p_o, p_s)
-    where: list = [None] * len(varied_index)
-    pos = {int(k): j for j, k in enumerate(varied_index)}
-    for s, k in enumerate(shared):
-        where[pos[int(k)]] = ("s", s)
-    for r, ks in enumerate(own):
-        for i, k in enumerate(ks):
-            where[pos[int(k)]] = ("o", r, i)
+    varied_index = np.asarray(varied_index, dtype=int)
+    own = np.asarray(own, dtype=int).reshape(len(own), -1)
+    where = np.zeros((3, varied_index.size), dtype=np.int32)
+    where[0] = -1
+    pos = np.searchsorted(varied_index, shared)
+    where[:, pos] = [np.zeros(len(shared)), np.arange(len(shared)), np.zeros(len(shared))]
+    pos = np.searchsorted(varied_index, own)  # (R, p_o)
+    where[0, pos] = 1
+    where[1, pos] = np.arange(own.shape[0])[:, None]
+    where[2, pos] = np.arange(own.shape[1])[None, :]
     return BlockCovariance(Css, X, M, where, ~ok)
 
 
@@ -359,14 +361,12 @@ def solve_blocks(
     ev = _evaluate(model, datas, design, theta, shared, own, scale, True, executor)
     nfev = njev = 1
     message, success = "the maximum number of iterations was reached", False
-    p_o = own[0].size if own else 0
     ahead = True  # the last step was taken: evaluate the next trial with its blocks
     for _ in range(max_iter):
         ds, dl = _step(ev.blocks, lam)
         trial = theta.copy()
         trial[shared] += ds
-        for i, o in enumerate(own):
-            trial[o] += dl[i] if p_o else 0.0
+        trial[own] += dl
         trial = np.clip(trial, lower, upper)
         ev_t = _evaluate(model, datas, design, trial, shared, own, scale, ahead, executor)
         nfev += 1

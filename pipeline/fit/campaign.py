@@ -81,18 +81,36 @@ class _Campaign(Design):
     """Global → per-record parameters for a campaign hypothesis (module notes), from the
     records' :class:`~pipeline.fit.store.RecordSummary` (no samples needed)."""
 
-    def __init__(self, summary, law, shared, mu_law, damping, tangential):
+    def __init__(self, summary, law, shared, mu_law, damping, tangential, names=None):
         self.summary, self.law = summary, law
         self.mu_law, self.damping = mu_law, damping
         R = len(summary.names)
-        names, scale = [], []
+        # the per-record names (``t0_3``), made once for all of a campaign's hypotheses
+        # (``names``: kind → tuple, filled here)
+        names = {} if names is None else names
+        self.own_names = {}  # kind → its per-record names, in the order of ``names``
+        parts, scale = [], []
+        self._where = {}  # shared name → index
+        self._first = {}  # per-record kind → index of its record 0 (records in order)
+        self._n = 0
 
-        def add(name, sc):
-            names.append(name)
-            scale.append(sc)
+        def add(name, sc, per_record=False):
+            if per_record:
+                self._first[name] = self._n
+                if name not in names:
+                    names[name] = tuple(f"{name}_{i}" for i in range(R))
+                self.own_names[name] = names[name]
+                parts.append(names[name])
+                scale.append(np.full(R, sc) if np.ndim(sc) == 0 else np.asarray(sc, float))
+                self._n += R
+            else:
+                self._where[name] = self._n
+                parts.append((name,))
+                scale.append([sc])
+                self._n += 1
 
-        self.E = self._slot(add, "E_eff", "E_eff" in shared, R, 1e9)
-        self.damp = len(names)
+        add("E_eff", 1e9, "E_eff" not in shared)
+        self.damp = self._n
         if law != "hertz":
             add(
                 "alpha" if damping == "constant_alpha" else "e",
@@ -101,55 +119,38 @@ class _Campaign(Design):
         if tangential == "none":
             self.mu = None
         elif mu_law == "constant":
-            self.mu = [len(names)]
+            self.mu = [self._n]
             add("mu", 0.01)
         else:
-            self.mu = [len(names), len(names) + 1]
+            self.mu = [self._n, self._n + 1]
             add("mu_a", 0.01)
             add("mu_b", 0.01)
-        self.kt = (
-            self._slot(add, "kt_scale", "kt_scale" in shared, R, 0.1)
-            if tangential == "mindlin"
-            else None
-        )
-        self.speed = [len(names) + i for i in range(R)]
-        for i in range(R):
-            add(f"speed_{i}", 0.1)
-        self.t0 = [len(names) + i for i in range(R)]
-        for i in range(R):
-            add(f"t0_{i}", float(summary.duration[i]))
-        self.names = tuple(names)
-        self.scale = np.array(scale, dtype=float)
+        self.kt = True if tangential == "mindlin" else None
+        if self.kt:
+            add("kt_scale", 0.1, "kt_scale" not in shared)
+        add("speed", 0.1, True)
+        add("t0", summary.duration, True)
+        self.speed = slice(self._first["speed"], self._first["speed"] + R)
+        self.t0 = slice(self._first["t0"], self._first["t0"] + R)
+        self.names = tuple(n for part in parts for n in part)
+        self.scale = np.concatenate([np.asarray(x, dtype=float) for x in scale])
         self.vt0 = summary.v_t0
-        self._where = {n: k for k, n in enumerate(self.names)}
         self._cols = None  # per-record column indices and constants, on first use
 
-    @staticmethod
-    def _slot(add, name, is_shared, R, sc):
-        if is_shared:
-            add(name, sc)
-            return None
-        out = []
-        for i in range(R):
-            out.append(None)
-            add(f"{name}_{i}", sc)
-        return out
-
     def _index(self, name, i):
-        return self._where.get(name, self._where.get(f"{name}_{i}"))
+        """Global index of ``name`` (shared) or of record ``i``'s own ``name``."""
+        return self._where[name] if name in self._where else self._first[name] + i
 
     def shared_index(self) -> list:
         """Global indices of the parameters every record depends on."""
-        return [k for k, n in enumerate(self.names) if not n.rsplit("_", 1)[-1].isdigit()]
+        return sorted(self._where.values())
 
-    def own_index(self) -> list:
-        """Per record, the global indices of its own parameters (the same kinds for all)."""
-        own = [[] for _ in self.summary.names]
-        for k, n in enumerate(self.names):
-            head, _, tail = n.rpartition("_")
-            if tail.isdigit() and head:
-                own[int(tail)].append(k)
-        return own
+    def own_index(self) -> np.ndarray:
+        """Per record (rows), the global indices of its own parameters (the same kinds for
+        all, in the order of ``names``): (R, kinds) integers."""
+        R = len(self.summary.names)
+        first = sorted(self._first.values())
+        return np.arange(R)[:, None] + np.array(first, dtype=int)[None, :]
 
     def local(self, theta):
         """Every record's local parameters, vectorised over records: e(α) for the
@@ -232,26 +233,21 @@ class CampaignFit(FitResult):
         E_eff [Pa], e, mu, kt_scale, speed [m/s], t0 [s], v_t0 [m/s], angle_deg."""
         import pandas as pd
 
-        design = self.problem.design
-        Ps = design.local(self.theta[None, :])
-        rows = []
-        for name, angle, vt0, P in zip(
-            self.records, design.summary.angle_deg, design.summary.v_t0, Ps, strict=True
-        ):
-            rows.append(
-                {
-                    "record": name,
-                    "angle_deg": float(angle),
-                    "speed": float(P[0, 4]),
-                    "v_t0": float(vt0),
-                    "E_eff": float(P[0, 0]),
-                    "e": float(P[0, 1]),
-                    "mu": float(P[0, 2]),
-                    "kt_scale": float(P[0, 3]),
-                    "t0": float(P[0, 5]),
-                }
-            )
-        return pd.DataFrame(rows)
+        sm = self.problem.design.summary
+        P = np.stack(self.problem.design.local(self.theta[None, :]))[:, 0, :]  # (R, L)
+        return pd.DataFrame(
+            {
+                "record": list(self.records),
+                "angle_deg": np.asarray(sm.angle_deg, dtype=float),
+                "speed": P[:, 4],
+                "v_t0": np.asarray(sm.v_t0, dtype=float),
+                "E_eff": P[:, 0],
+                "e": P[:, 1],
+                "mu": P[:, 2],
+                "kt_scale": P[:, 3],
+                "t0": P[:, 5],
+            }
+        )
 
     def compare(self):
         """Every hypothesis fitted, side by side (pandas DataFrame, best AIC first).
@@ -385,11 +381,55 @@ class _Joint:
     datas: object
 
 
+class _Parameters:
+    """A joint fit's ``params``: its :class:`lmfit.Parameters` (values, ``vary``, ``stderr``
+    from the covariance), built on first use and then kept. A fit holds its values and
+    covariance as arrays; lmfit's Parameter objects of every record's own parameters would
+    take some kB a record and hypothesis (docs/campaigns.md)."""
+
+    def __init__(self, names, theta, varied, cov):
+        self._of = (names, theta, varied, cov)
+        self._built = None
+
+    def _params(self):
+        if self._built is None:
+            import lmfit
+
+            names, theta, varied, cov = self._of
+            params, j = lmfit.Parameters(), 0
+            for nm, value, on in zip(names, theta, varied, strict=True):
+                params.add(nm, value=float(value), vary=on)
+                if on:
+                    if np.isfinite(cov[j, j]):
+                        params[nm].stderr = math.sqrt(cov[j, j])
+                    j += 1
+            self._built = params
+        return self._built
+
+    def __getattr__(self, name):
+        if name.startswith("_"):  # pickling and copying look for dunders: not lmfit's
+            raise AttributeError(name)
+        return getattr(self._params(), name)
+
+    def __getitem__(self, name):
+        return self._params()[name]
+
+    def __iter__(self):
+        return iter(self._params())
+
+    def __len__(self):
+        return len(self._of[0])
+
+    def __contains__(self, name):
+        return name in self._of[0]
+
+    def __repr__(self):
+        return repr(self._params())
+
+
 def _joint(model, store, design, init, vary, executor=None) -> dict:
     """The joint fit by the block solver (:mod:`pipeline.fit.blocks`), as the fields of a
     :class:`CampaignFit` (those :func:`pipeline.fit.procedure.run_fit` gives a dense one)."""
-    import lmfit
-
     names = design.names
     sm = design.summary
     vary = set(vary)
@@ -420,21 +460,16 @@ def _joint(model, store, design, init, vary, executor=None) -> dict:
         msg = f"joint fit ({model.name}): " + "; ".join(reasons)
         notes.append(msg)
         warnings.warn(msg, PoorFitWarning, stacklevel=3)
-    params = lmfit.Parameters()
-    vidx = {j: i for i, j in enumerate(np.flatnonzero(varied))}
-    for i, nm in enumerate(names):
-        params.add(nm, value=float(res.theta[i]), vary=bool(varied[i]))
-        if i in vidx and np.isfinite(cov[vidx[i], vidx[i]]):
-            params[nm].stderr = math.sqrt(cov[vidx[i], vidx[i]])
+    varied = tuple(bool(v) for v in varied)
     return dict(
-        names=tuple(names),
+        names=names,
         theta=res.theta,
-        varied=tuple(bool(v) for v in varied),
+        varied=varied,
         cov=cov,
         chi2=res.chi2,
         n_data=n,
         n_nuisance=nuisance,
-        params=params,
+        params=_Parameters(names, res.theta, varied, cov),
         result=SimpleNamespace(
             nfev=res.nfev, njev=res.njev, success=res.success, message=res.message
         ),
@@ -466,7 +501,7 @@ def _prepared(start, items, scenes, sensors, noises, model, how, starts, load) -
             singles.append(_single_values(single))
         rows.append(RecordSummary.row(d, str(r.attrs.get("source", f"record {start + i}"))))
         states.append(pack(d))
-    return pack_chunk(states), rows, singles
+    return pack_chunk(states), rows, (_columns(singles) if singles else None)
 
 
 def _single_values(fit) -> dict:
@@ -478,35 +513,63 @@ def _single_values(fit) -> dict:
     return out
 
 
+#: Each record's starting values that the joint fit reads (:func:`_starts`), and their
+#: defaults where a record's lack them (None: required).
+_START = {
+    "t0": None,
+    "E_eff": None,
+    "kt_scale": 1.0,
+    "e": 1.0,
+    "mu": math.nan,
+    "mu_stderr": math.nan,
+    "mu_identifiable": True,
+}
+
+
+def _columns(rows) -> dict:
+    """Records' starting values as arrays over the records (:data:`_START`): from one
+    mapping per record, or from the columns of a :meth:`CampaignFit.per_record` frame."""
+    if hasattr(rows, "columns"):
+        n = len(rows)
+        return {k: rows[k].to_numpy() if k in rows else np.full(n, d) for k, d in _START.items()}
+    return {
+        k: np.array(
+            [r[k] if d is None else r.get(k, d) for r in rows],
+            dtype=bool if k == "mu_identifiable" else float,
+        )
+        for k, d in _START.items()
+    }
+
+
 def _starts(singles, design, law):
-    """Starting values of the global parameters from the single-record fits' values
-    (:func:`_single_values`, or the caller's ``starts``: E_eff, e, mu, kt_scale, t0 per
+    """Starting values of the global parameters from the records' starting values
+    (:func:`_columns` of the single-record fits' :func:`_single_values`, of their moments,
+    of the hypothesis before, or of the caller's ``starts``: E_eff, e, mu, kt_scale, t0 per
     record; the standard errors weigh μ where given)."""
     init = {}
-    vals = list(singles)
     sm = design.summary
-    for i, v in enumerate(vals):
-        init[f"t0_{i}"] = v["t0"]
-        init[f"speed_{i}"] = float(sm.speed[i])
-        init[f"E_eff_{i}"] = v["E_eff"]
-        init[f"kt_scale_{i}"] = min(max(v.get("kt_scale", 1.0), 0.05), 20.0)
-    init["E_eff"] = float(np.median([v["E_eff"] for v in vals]))
-    init["kt_scale"] = float(np.median([init[f"kt_scale_{i}"] for i in range(len(vals))]))
-    es = np.array([v.get("e", 1.0) for v in vals])
+    E = np.asarray(singles["E_eff"], dtype=float)
+    kt = np.minimum(np.maximum(np.asarray(singles["kt_scale"], dtype=float), 0.05), 20.0)
+    per_record = {"t0": singles["t0"], "speed": sm.speed, "E_eff": E, "kt_scale": kt}
+    for kind, names in design.own_names.items():
+        init.update(zip(names, np.asarray(per_record[kind], dtype=float).tolist(), strict=True))
+    init["E_eff"] = float(np.median(E))
+    init["kt_scale"] = float(np.median(kt))
+    es = np.asarray(singles["e"], dtype=float)
     init["e"] = float(np.median(es))
     if law != "hertz":
         L = NORMAL_LAWS[law]
         a = []
-        for i, (e, v) in enumerate(zip(es, vals, strict=True)):
-            K = 4.0 / 3.0 * v["E_eff"] * math.sqrt(sm.R_eff[i])
+        for i, e in enumerate(es):
+            K = 4.0 / 3.0 * E[i] * math.sqrt(sm.R_eff[i])
             unit = float(L.material_to_param(1.0, K, sm.m_eff[i], sm.speed[i] * sm.cos_a[i]))
             a.append(float(L.calibrate(min(e, 0.999999))) / unit if unit else 0.0)
         init["alpha"] = float(np.median(a))
-    mus = np.array([v.get("mu", math.nan) for v in vals])
-    ok = np.array([v.get("mu_identifiable", True) for v in vals], dtype=bool) & np.isfinite(mus)
+    mus = np.asarray(singles["mu"], dtype=float)
+    ok = np.asarray(singles["mu_identifiable"], dtype=bool) & np.isfinite(mus)
     if not ok.any():
         ok = np.isfinite(mus)
-    se = np.array([v.get("mu_stderr", math.nan) for v in vals])
+    se = np.asarray(singles["mu_stderr"], dtype=float)
     w = np.where(np.isfinite(se) & (se > 0), 1.0 / np.maximum(se, 1e-12) ** 2, 1.0)[ok]
     init["mu"] = float(np.average(mus[ok], weights=w)) if ok.any() else 0.1
     vt = design.vt0[ok]
@@ -649,16 +712,18 @@ def fit_campaign(
 
     jobs = (part(a) for a in range(0, n_records, size))
     on = executor if n_records > size else None  # one chunk: nothing to share
-    singles = []
+    columns = []  # each chunk's records' starting values (_columns)
 
     def packed():
         for blob, rows, starts_ in in_order(on, _prepared, jobs):
-            singles.extend(starts_)
+            columns.append(starts_)
             yield blob, rows
 
     store = RecordStore.of_packed(packed(), chunk=size)
-    if not own_starts:
-        singles = _as_list(starts, n_records, "starts")
+    if own_starts:
+        singles = {k: np.concatenate([c[k] for c in columns]) for k in _START}
+    else:
+        singles = _columns(_as_list(starts, n_records, "starts"))
     names = store.summary.names
     todo = [(mu_law, damping)]
     if hyps == "all":
@@ -667,9 +732,9 @@ def fit_campaign(
             todo = [(m, d) for m, d in todo if d == "constant_e"]
         if tangential == "none":
             todo = [(m, d) for m, d in todo if m == "constant"]
-    fits = {}
+    fits, own_names = {}, {}
     for ml, dm in todo:
-        design = _Campaign(store.summary, normal, shared, ml, dm, tangential)
+        design = _Campaign(store.summary, normal, shared, ml, dm, tangential, own_names)
         init = _starts(singles, design, normal)
         vary = [n for n in design.names if not n.startswith("speed_")]
         if normal == "hertz":
@@ -690,7 +755,7 @@ def fit_campaign(
         )
         fits[(ml, dm)] = CampaignFit(**kw)
         if solver == "blocks":  # the next hypothesis starts from this one's records
-            singles = fits[(ml, dm)].per_record().to_dict("records")
+            singles = _columns(fits[(ml, dm)].per_record())
     for f in fits.values():
         f.hypotheses.update(fits)
     return fits[(mu_law, damping)]
