@@ -149,20 +149,11 @@ def _evaluate(
     R = len(datas)
     if jacobian:
         rows, D = _dlocal(design, theta, shared, own, scale)
-        moves = np.any(D != 0, axis=2)
-        active = [np.flatnonzero(m) for m in moves]
     else:
-        rows, D, active = _rows(design, theta), None, None
+        rows, D = _rows(design, theta), None
     ps = shared.size
     jobs = (
-        (
-            model,
-            chunk,
-            rows[a : a + n],
-            None if D is None else D[a : a + n],
-            None if active is None else active[a : a + n],
-            ps,
-        )
+        (model, chunk, rows[a : a + n], None if D is None else D[a : a + n], ps)
         for a, n, chunk in chunks_of(datas, CHUNK, packed=executor is not None)
     )
     chi2 = np.empty(R)
@@ -181,10 +172,10 @@ def _evaluate(
     return _Evaluation(float(sum(chi2.tolist())), chi2, blocks, parts)
 
 
-def _chunk(model, chunk, rows, D, active, ps):
+def _chunk(model, chunk, rows, D, ps):
     """One chunk of records at their local parameters ``rows`` (n, L): each record's χ²,
-    and with their derivatives ``D`` (n, L, p_s + p_o) by the global parameters (the
-    ``active`` ones per record) its normal-equation blocks and misfit share (module
+    and with their derivatives ``D`` (n, L, p_s + p_o) by the global parameters (through
+    the local parameters they move) its normal-equation blocks and misfit share (module
     notes). ``chunk``: the records, or a store's chunk as written (bytes); the work of
     :func:`_evaluate`, here or in another process."""
     if isinstance(chunk, bytes):
@@ -195,6 +186,7 @@ def _chunk(model, chunk, rows, D, active, ps):
         r, _ = model.residuals(chunk, Ps)
         return np.array([float(x[0] @ x[0]) for x in r]), None, None
     blocks, parts = _empty_blocks(n, ps, D.shape[2] - ps), [None] * n
+    active = [np.flatnonzero(m) for m in np.any(D != 0, axis=2)]
     r, Jl, _ = local_jacobians(model, chunk, Ps, active)
     for i, (d, ri, Ji) in enumerate(zip(chunk, r, Jl, strict=True)):
         ri = ri[0]
