@@ -44,7 +44,8 @@ Targets (issue 22): 10,000 records with fits and the joint fit in ≤ 30 minutes
 cores, the peak memory of every process ≤ 1 GB and flat against N, the log–log slope of
 the time ≤ 1.05, the Datasets identical serially and distributed; (issue 16) 1,000
 records with reports in ≤ 10 minutes on 2 workers. ``PIPELINE_BENCH_CAMPAIGN_MAX`` caps
-the largest N (default 10,000) for a quick check.
+the largest N (default 10,000) for a quick check, ``PIPELINE_BENCH_CAMPAIGN_REPORTS_MAX``
+the largest N run with reports (default 1,000).
 
 Writes ``campaign_scale.json`` and ``campaign_scale.png``, both after every run, so that a
 run stopped part-way leaves what it measured.
@@ -409,6 +410,7 @@ def run(out_dir: Path) -> dict:
     out_dir.mkdir(parents=True, exist_ok=True)
     largest = _env_int("PIPELINE_BENCH_CAMPAIGN_MAX", max(SIZES))
     serial_max = _env_int("PIPELINE_BENCH_CAMPAIGN_SERIAL_MAX", 1000)
+    reports_max = _env_int("PIPELINE_BENCH_CAMPAIGN_REPORTS_MAX", max(REPORT_SIZES))
     sizes = [n for n in SIZES if n <= largest]
     old_cache = os.environ.get("PIPELINE_CACHE")
     rows = {"dask": [], "serial": [], "dask_reports": []}
@@ -435,7 +437,7 @@ def run(out_dir: Path) -> dict:
             for n in sorted(set(sizes) | {ext_n}):
                 folder = _folder(tmp, n)
                 runs = [("dask", n in sizes), ("serial", n <= serial_max or n == ext_n)]
-                runs.append(("dask_reports", n in REPORT_SIZES and n in sizes))
+                runs.append(("dask_reports", n in REPORT_SIZES and n in sizes and n <= reports_max))
                 nc = {}
                 for mode, wanted in runs:
                     if not wanted:
