@@ -334,7 +334,7 @@ def first_fit(repeat) -> dict:
         worker = _worker_first_fit(env)
     med = {k: statistics.median(v) for k, v in times.items()}
     return {
-        "command": "pipeline fit " + " ".join(args),
+        "command": "pipeline " + " ".join(args),
         "imports": IMPORTS,
         "wall_s": times,
         "median_s": med,
