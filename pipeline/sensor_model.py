@@ -58,6 +58,7 @@ C. M. Harris, A. G. Piersol, *Harris' Shock and Vibration Handbook*, 5th ed., Mc
 
 from __future__ import annotations
 
+import functools
 import math
 import warnings
 from dataclasses import dataclass
@@ -159,6 +160,15 @@ def butterworth_sos(order: int, bandwidth: float, dt: float) -> np.ndarray:
     return signal.tf2sos(b[0], a)
 
 
+@functools.lru_cache(maxsize=64)
+def _butter_zpk(order: int, bandwidth: float) -> tuple[tuple, tuple, float]:
+    """The analogue Butterworth low-pass's zeros, poles [rad/s] and gain (scipy's design,
+    kept: a fit with the sensor's mode free designs the chain anew at every mode it tries,
+    the low-pass the same each time)."""
+    zb, pb, kb = signal.butter(order, 2.0 * np.pi * bandwidth, analog=True, output="zpk")
+    return tuple(zb), tuple(pb), float(kb)
+
+
 def sensor_zpk(
     bandwidth: float = math.inf,
     filter_order: int = 2,
@@ -179,10 +189,10 @@ def sensor_zpk(
     """
     z, p, k = [], [], 1.0
     if math.isfinite(bandwidth):
-        zb, pb, kb = signal.butter(filter_order, 2.0 * np.pi * bandwidth, analog=True, output="zpk")
-        z += list(zb)
-        p += list(pb)
-        k *= float(kb)
+        zb, pb, kb = _butter_zpk(int(filter_order), float(bandwidth))
+        z += zb
+        p += pb
+        k *= kb
     if math.isfinite(resonance):
         wn = 2.0 * np.pi * resonance
         zeta = float(damping_ratio)
