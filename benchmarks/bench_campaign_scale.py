@@ -137,8 +137,8 @@ def _one(n: int, mode: str, folder: str, out: str, nc: str | None = None) -> dic
             joint["s"].append(time.perf_counter() - t)
 
     class Store(fit_campaign.RecordStore):
-        def __init__(self, *a, **kw):
-            super().__init__(*a, **kw)
+        def _fill(self, *a, **kw):  # every way a store is made (RecordStore.of_packed too)
+            super()._fill(*a, **kw)
             joint["store_bytes"].append(self.nbytes)
 
     campaigns.with_joint_fit = timed_joint
