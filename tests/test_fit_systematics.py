@@ -497,3 +497,48 @@ def test_digitised_clicks_are_weighed_by_their_effective_variance():
     assert 5.4 / 2 < sigma_f < 5.4 * 2
     lo, hi = both.ci()["E_eff"]
     assert lo <= sc.E_eff <= hi
+
+
+def test_a_summary_reads_each_property_once_not_once_a_parameter():
+    """A campaign's joint fit has thousands of parameters (each record's onset and speed):
+    its summary, table and report read the standard errors once, not once a parameter
+    (that made CampaignFit.summary() quadratic, or worse, in the records), and say the
+    same as the properties they read."""
+    from pipeline.fit.result import FitResult
+
+    class Counted(FitResult):
+        reads = 0
+
+        @property
+        def stderr(self):
+            type(self).reads += 1
+            return super().stderr
+
+    n_rec = 40
+    names = ("E_eff", "e", "mu", *(f"t0_{i}" for i in range(n_rec)))
+    se = np.array([1e9, 0.01, 0.004, *([1e-7] * n_rec)])
+    fit = Counted(
+        names=names,
+        theta=np.array([50e9, 0.8, 0.1, *(1e-5 * np.arange(n_rec))]),
+        varied=(True,) * len(names),
+        cov=np.diag(se**2),
+        chi2=100.0,
+        n_data=5000,
+        params=None,
+        result=None,
+    )
+    reads = {}
+    for what, call in [
+        ("summary", fit._summary_params),
+        ("report", fit._param_lines),
+        ("table", lambda: fit.table(nuisance=True)),
+    ]:
+        Counted.reads = 0
+        out = call()
+        reads[what] = Counted.reads
+    assert max(reads.values()) <= 3, reads  # a constant, not ~n_rec
+    summary = fit._summary_params()
+    assert summary["t0_7"]["stderr"] == pytest.approx(1e-7, rel=1e-12)
+    assert summary["t0_7"]["value"] == pytest.approx(7e-5, rel=1e-12)
+    assert summary["E_eff"]["identifiable"] and summary["mu"]["vary"]
+    assert len(out) == len(names)  # the table: one row a parameter

@@ -262,7 +262,8 @@ class FitResult:
     def identifiable(self) -> dict:
         """{name: bool} for the fitted parameters: False where the data bound it on one
         side only (:attr:`notes` says why)."""
-        return {n: n not in self.one_sided and np.isfinite(self.stderr[n]) for n in self.vary}
+        se, one_sided = self.stderr, set(self.one_sided)
+        return {n: n not in one_sided and np.isfinite(se[n]) for n in self.vary}
 
     @property
     def redchi(self) -> float:
@@ -430,7 +431,7 @@ class FitResult:
             Every digit stays in ``summary()``.
         """
         budget = self.budget
-        ci, se = self.ci(level), self.stderr
+        ci, se, values = self.ci(level), self.stderr, self.values
         rows = []
         for n in self.vary:
             kind = kind_of(n)
@@ -445,7 +446,7 @@ class FitResult:
             rows.append(
                 {
                     "name": n,
-                    "value": self.values[n],
+                    "value": values[n],
                     "stderr": s,
                     "ci": ci[n],
                     "status": status,
@@ -516,13 +517,12 @@ class FitResult:
         return lines
 
     def _param_lines(self, level=0.95) -> list:
-        ci = self.ci(level)
-        se = self.stderr
+        ci, se, values, vary = self.ci(level), self.stderr, self.values, set(self.vary)
         lines = []
         for n in self.names:
-            v = self.values[n]
+            v = values[n]
             unit = self._unit(n)
-            if n not in self.vary:
+            if n not in vary:
                 lines.append(f"    {n:<12s} = {v:.6g} {unit} (fixed)")
             elif n in self.one_sided:
                 op, side = ("≥", "lower") if n in self.lower_only else ("≤", "upper")
@@ -539,20 +539,13 @@ class FitResult:
         return lines
 
     def _summary_params(self) -> dict:
-        ci = self.ci(0.95)
+        # each property once, not once a parameter: a campaign's fit has thousands
+        ci, values, se, ident = self.ci(0.95), self.values, self.stderr, self.identifiable
         out = {}
         for n in self.names:
-            entry = {
-                "value": self.values[n],
-                "unit": self._unit(n),
-                "vary": n in self.vary,
-            }
-            if n in self.vary:
-                entry.update(
-                    stderr=self.stderr[n],
-                    ci95=list(ci[n]),
-                    identifiable=self.identifiable[n],
-                )
+            entry = {"value": values[n], "unit": self._unit(n), "vary": n in ident}
+            if n in ident:
+                entry.update(stderr=se[n], ci95=list(ci[n]), identifiable=ident[n])
                 if n in self.priors:
                     entry["stated"], entry["stated_u"] = self.priors[n]
             out[n] = entry
