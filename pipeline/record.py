@@ -132,7 +132,9 @@ def times(record: xr.Dataset) -> np.ndarray:
     """The record's instants [s], read from its time index (read-only; xarray's own read of
     the coordinate converts the index anew each time, at tens of µs a read)."""
     index = record.xindexes.get("time")
-    return record.variables["time"].values if index is None else index.index.values
+    t = (record.variables["time"].values if index is None else index.index.values).view()
+    t.flags.writeable = False  # a view: the record's own instants
+    return t
 
 
 def channel(record: xr.Dataset, name: str) -> tuple[np.ndarray, np.ndarray]:

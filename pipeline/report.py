@@ -163,10 +163,6 @@ def outcomes_frame(a: Analysis) -> pd.DataFrame:
     return pd.DataFrame(rows).set_index("quantity")
 
 
-# --------------------------------------------------------------------------- I/O helpers
-# (pipeline.sidecar: imported above, re-exported)
-
-
 def _quiet(fn, *args, **kwargs):
     """Call fn, collecting (not raising) its warnings; return (result, messages)."""
     with warnings.catch_warnings(record=True) as caught:

@@ -308,37 +308,55 @@ def test_record_options_travel_as_json_with_absolute_paths(tmp_path, monkeypatch
     assert json.loads(json.dumps(got)) == got
 
 
-_BLAS_AFTER_A_COMMAND = """
+_BLAS_DURING_A_COMMAND = """
 import contextlib, io, json, os
 from threadpoolctl import threadpool_info
-from pipeline.cli import main
+import pipeline.cli as cli
+
+def blas():
+    return {"env": os.environ.get("OPENBLAS_NUM_THREADS"),
+            "threads": {i["filepath"]: i["num_threads"] for i in threadpool_info()
+                        if i["user_api"] == "blas"}}
+
+seen, run = {"before": blas()}, cli._run
+
+def spy(args):
+    seen["during"] = blas()
+    return run(args)
+
+cli._run = spy
 with contextlib.redirect_stderr(io.StringIO()):
-    status = main(["fit", "no-such-record.csv"])
-print(json.dumps({"status": status, "env": os.environ.get("OPENBLAS_NUM_THREADS"),
-                  "threads": [i["num_threads"] for i in threadpool_info()
-                              if i["user_api"] == "blas"]}))
+    seen["status"] = cli.main(["fit", "no-such-record.csv"])
+seen["after"] = blas()
+print(json.dumps(seen))
 """
 
 
 @pytest.mark.parametrize("user", [None, "2"])
 def test_the_command_runs_on_one_blas_thread_unless_the_user_chose(user):
     """A command limits the loaded BLAS to one thread, and sets the variable for the
-    processes it starts; a number the user set is left as it is."""
+    processes it starts, until it returns (a command run from Python leaves the process
+    as it was); a number the user set is left as it is."""
     env = {k: v for k, v in os.environ.items() if k not in BLAS_THREADS}
     if user is not None:
         env["OPENBLAS_NUM_THREADS"] = user
     out = subprocess.run(
-        [sys.executable, "-c", _BLAS_AFTER_A_COMMAND],
+        [sys.executable, "-c", _BLAS_DURING_A_COMMAND],
         capture_output=True,
         text=True,
         check=True,
         env=env,
     )
     got = json.loads(out.stdout)
-    assert got["status"] == 2  # the record does not exist: bad input, after the limit
-    assert got["threads"], "no BLAS library loaded"
+    assert got["status"] == 2  # the record does not exist: bad input, under the limit
+    before, during, after = got["before"], got["during"], got["after"]
+    assert before["threads"], "no BLAS library loaded"
+    # as it was before, for the libraries loaded then (one loaded by the command, e.g.
+    # scipy's, keeps the threads the command's variables gave it)
+    assert after["env"] == before["env"]
+    assert {k: after["threads"][k] for k in before["threads"]} == before["threads"]
     if user is None:
-        assert got["env"] == "1"
-        assert set(got["threads"]) == {1}
+        assert during["env"] == "1"
+        assert set(during["threads"].values()) == {1}
     else:
-        assert got["env"] == user
+        assert during == before and before["env"] == user

@@ -328,7 +328,7 @@ def test_the_joint_fit_keeps_a_few_numbers_a_record(constant_e):
         gc.collect()
         assert sum(isinstance(o, lmfit.Parameter) for o in gc.get_objects()) == before
         sizes[4 * k] = _retained_bytes(fit)
-    assert (sizes[12] - sizes[4]) / 8 < 1000
+    assert (sizes[12] - sizes[4]) / 8 < 1300  # ~0.9 kB measured; 1.6 kB with lmfit's
     v, se = fit.values, fit.stderr
     for name in ("E_eff", "mu_b", "t0_7"):
         assert fit.params[name].value == pytest.approx(v[name], rel=1e-12)

@@ -243,7 +243,7 @@ class PlasticPulses:
         # the nodes and both Gauss points of every step in one evaluation of the state
         x, u, f, df = imp.state(np.concatenate([tau] + [tau[:, :-1] + gi * h for gi in g], 1))
         xg = np.stack([x[:, n + 1 : 2 * n + 1], x[:, 2 * n + 1 :]], axis=1)
-        x, u, f, df = (a[:, : n + 1] for a in (x, u, f, df))
+        x, u, f, df = (np.ascontiguousarray(a[:, : n + 1]) for a in (x, u, f, df))
         x[:, 0], u[:, 0], f[:, 0] = 0.0, 1.0, 0.0
         f[:, -1] = 0.0  # the contact ends where the force does (at δ_p > 0)
         return NormalPulse(

@@ -518,13 +518,14 @@ class FitResult:
 
     def _param_lines(self, level=0.95) -> list:
         ci, se, values, vary = self.ci(level), self.stderr, self.values, set(self.vary)
+        one_sided = set(self.one_sided)
         lines = []
         for n in self.names:
             v = values[n]
             unit = self._unit(n)
             if n not in vary:
                 lines.append(f"    {n:<12s} = {v:.6g} {unit} (fixed)")
-            elif n in self.one_sided:
+            elif n in one_sided:
                 op, side = ("≥", "lower") if n in self.lower_only else ("≤", "upper")
                 lines.append(
                     f"    {n:<12s} {op} {v:.6g} {unit} (not identifiable: only an {side} bound"
@@ -541,10 +542,11 @@ class FitResult:
     def _summary_params(self) -> dict:
         # each property once, not once a parameter: a campaign's fit has thousands
         ci, values, se, ident = self.ci(0.95), self.values, self.stderr, self.identifiable
+        vary = set(self.vary)
         out = {}
         for n in self.names:
-            entry = {"value": values[n], "unit": self._unit(n), "vary": n in ident}
-            if n in ident:
+            entry = {"value": values[n], "unit": self._unit(n), "vary": n in vary}
+            if n in vary:
                 entry.update(stderr=se[n], ci95=list(ci[n]), identifiable=ident[n])
                 if n in self.priors:
                     entry["stated"], entry["stated_u"] = self.priors[n]
