@@ -100,7 +100,7 @@ def test_hc_newton_stops_at_two_adjacent_doubles(monkeypatch):
     Newton iteration ends within a dozen steps, also where e lies in [0.5, 0.555) and the
     relative tolerance 2e-16 is below half an ulp (the bracket ends as two adjacent doubles,
     f of either sign by rounding) — before, those ran the 200 steps of the cap, each a pass
-    over the array, and a first fit waited ~15 ms on them; the relation c(1+e) =
+    over the array, and a first fit waited ~10 ms on them; the relation c(1+e) =
     ln[(1+c)/(1−c·e)] (docs/theory.md) holds at the result."""
     from pipeline.contact import damping
 
