@@ -6,7 +6,12 @@ to the cluster in chunks (:data:`CHUNKS_PER_WORKER` per worker, at most
 :data:`MAX_CHUNK` records each), so that a record's ~20 ms is not eaten by the scheduler's
 round trip, and a chunk's results are handed on as soon as they arrive and released on the
 cluster: no process holds more than a few chunks' results at a time, whatever the number of
-records (:func:`iter_results`). A worker that cannot write the output (a full disk:
+records (:func:`iter_results`). Run serially, the process frees the records' cyclic
+garbage every :data:`COLLECT_EVERY` records and hands the memory freed back to the system
+(glibc's ``malloc_trim``, as dask's workers do with their trim threshold): a record's fits
+leave reference cycles that hold arrays, which Python's oldest generation collects only
+now and then, and a serial campaign's peak grew by ~0.3 MB a record over its first few
+hundred records. A worker that cannot write the output (a full disk:
 :class:`~pipeline.errors.OutputError`) ends the run with the same one-line error as this
 process would.
 """
@@ -14,6 +19,9 @@ process would.
 from __future__ import annotations
 
 import contextlib
+import ctypes
+import functools
+import gc
 import logging
 
 from ..errors import InputError, OutputError
@@ -30,6 +38,9 @@ __all__ = [
 #: Chunks of records per worker: enough to balance uneven records, few enough that the
 #: scheduler's per-task cost (~ms) stays small against the work.
 CHUNKS_PER_WORKER = 2
+#: Records between two releases of a serial run's freed memory (:func:`iter_results`):
+#: a full collection costs tens of ms, a record some hundreds.
+COLLECT_EVERY = 20
 #: Most records in one chunk (a chunk's results wait on its worker until all are done:
 #: ~13 kB a record).
 MAX_CHUNK = 50
@@ -99,11 +110,30 @@ def iter_results(tasks, fn, *, workers=None, scheduler=None, progress=None):
         if client is None:
             for i, t in enumerate(tasks):
                 r = fn(t)
+                if i % COLLECT_EVERY == COLLECT_EVERY - 1:
+                    _release()
                 if progress is not None:
                     progress(r)
                 yield i, r
             return
         yield from _distributed(client, tasks, fn, progress)
+
+
+@functools.cache
+def _malloc_trim():
+    """glibc's ``malloc_trim`` (None where the C library has none: macOS, Windows, musl)."""
+    with contextlib.suppress(OSError, AttributeError, TypeError):
+        return ctypes.CDLL(None).malloc_trim  # the process's own C library
+    return None
+
+
+def _release() -> None:
+    """Free the records' cyclic garbage and hand the memory the allocator then holds free
+    back to the system (module notes)."""
+    gc.collect()
+    trim = _malloc_trim()
+    if trim is not None:
+        trim(0)
 
 
 def _distributed(client, tasks, fn, progress):
