@@ -92,25 +92,26 @@ class _Campaign(Design):
         parts, scale = [], []
         self._where = {}  # shared name → index
         self._first = {}  # per-record kind → index of its record 0 (records in order)
-        self._n = 0
+        n = 0  # the next global index
 
         def add(name, sc, per_record=False):
+            nonlocal n
             if per_record:
-                self._first[name] = self._n
+                self._first[name] = n
                 if name not in names:
                     names[name] = tuple(f"{name}_{i}" for i in range(R))
                 self.own_names[name] = names[name]
                 parts.append(names[name])
                 scale.append(np.full(R, sc) if np.ndim(sc) == 0 else np.asarray(sc, float))
-                self._n += R
+                n += R
             else:
-                self._where[name] = self._n
+                self._where[name] = n
                 parts.append((name,))
                 scale.append([sc])
-                self._n += 1
+                n += 1
 
         add("E_eff", 1e9, "E_eff" not in shared)
-        self.damp = self._n
+        self.damp = n
         if law != "hertz":
             add(
                 "alpha" if damping == "constant_alpha" else "e",
@@ -119,13 +120,13 @@ class _Campaign(Design):
         if tangential == "none":
             self.mu = None
         elif mu_law == "constant":
-            self.mu = [self._n]
+            self.mu = [n]
             add("mu", 0.01)
         else:
-            self.mu = [self._n, self._n + 1]
+            self.mu = [n, n + 1]
             add("mu_a", 0.01)
             add("mu_b", 0.01)
-        self.kt = True if tangential == "mindlin" else None
+        self.kt = tangential == "mindlin"
         if self.kt:
             add("kt_scale", 0.1, "kt_scale" not in shared)
         add("speed", 0.1, True)
@@ -162,9 +163,7 @@ class _Campaign(Design):
             sm = self.summary
             self._cols = {
                 "E": np.array([self._index("E_eff", i) for i in range(R)]),
-                "kt": None
-                if self.kt is None
-                else np.array([self._index("kt_scale", i) for i in range(R)]),
+                "kt": np.array([self._index("kt_scale", i) for i in range(R)]) if self.kt else None,
                 "nominal": sm.nominal,
                 "R_eff": sm.R_eff,
                 "m_eff": sm.m_eff,
@@ -196,7 +195,7 @@ class _Campaign(Design):
         else:
             a, b = theta[:, self.mu[0]][None, :], theta[:, self.mu[1]][None, :]
             P[:, :, 2] = np.maximum(a + b * self.vt0[:, None], 0.0)
-        P[:, :, 3] = 1.0 if self.kt is None else theta[:, c["kt"]].T
+        P[:, :, 3] = theta[:, c["kt"]].T if self.kt else 1.0
         return list(P)
 
 
