@@ -31,7 +31,7 @@ import numpy as np
 
 from .forward import ANALYTIC, PARAMS, ForwardModel
 
-__all__ = ["Design", "Problem", "gauss_newton_many", "local_jacobians"]
+__all__ = ["Design", "Problem", "gauss_newton_many", "local_derivatives", "local_jacobians"]
 
 _P = {name: i for i, name in enumerate(PARAMS)}
 #: relative finite-difference step of the local parameters
@@ -113,27 +113,34 @@ class Problem:
             res, self.solutions = self.model.residuals(self.datas, Ps)
             return self._with_priors(np.concatenate(res, axis=1), Theta), None
         dP, active, sels = self._chain(Theta)
-        res, Jls, sols = local_jacobians(self.model, self.datas, Ps, active)
+        res, Ds, sols = local_derivatives(self.model, self.datas, Ps, active)
         self.solutions = sols
         J_all = [
-            Jl[:, sel].transpose(0, 2, 1)
+            Dl[:, sel].transpose(0, 2, 1)
             if sel is not None
-            else np.einsum("bln,blv->bnv", Jl[:, act], D[:, act, :])
-            for Jl, act, D, sel in zip(Jls, active, dP, sels, strict=True)
+            else np.einsum("bln,blv->bnv", Dl, D[:, act, :])
+            for Dl, act, D, sel in zip(Ds, active, dP, sels, strict=True)
         ]
-        r, J = np.concatenate(res, axis=1), np.concatenate(J_all, axis=1)
+        r = res[0] if len(res) == 1 else np.concatenate(res, axis=1)
+        J = J_all[0] if len(J_all) == 1 else np.concatenate(J_all, axis=1)
         return self._with_priors(r, Theta, J)
 
     def _chain(self, Theta):
         """∂P/∂θ_vary per record at the rows of Θ, the local parameters each depends on, and
-        each record's selection (:func:`_selection`); kept for a design whose derivative is
-        constant (:attr:`Design.constant_dlocal`), per number of rows."""
+        each record's selection (:func:`_selection`: the places of the varied parameters
+        among the active ones); kept for a design whose derivative is constant
+        (:attr:`Design.constant_dlocal`), per number of rows."""
         B = Theta.shape[0]
         if self._dlocal is not None and self._dlocal[0] == B:
             return self._dlocal[1]
         dP = self.design.dlocal(Theta, self.vary)
         active = [np.flatnonzero(np.any(D != 0, axis=(0, 2))) for D in dP]
-        out = (dP, active, [_selection(D) for D in dP])
+        sels = [_selection(D) for D in dP]
+        sels = [
+            None if sel is None else np.searchsorted(act, sel)
+            for sel, act in zip(sels, active, strict=True)
+        ]
+        out = (dP, active, sels)
         if getattr(self.design, "constant_dlocal", False):  # a design of Design's duck type too
             self._dlocal = (B, out)
         return out
@@ -207,6 +214,19 @@ def local_jacobians(model, datas, Ps, active):
     res : list of (B, n_i); Jl : list of (B, len(PARAMS), n_i) (zero outside ``active``);
     sols : list of the model's solutions of the B rows
     """
+    res, Ds, sols = local_derivatives(model, datas, Ps, active)
+    Jls = []
+    for r, D, act in zip(res, Ds, active, strict=True):
+        Jl = np.zeros((r.shape[0], len(PARAMS), r.shape[1]))
+        Jl[:, act] = D
+        Jls.append(Jl)
+    return res, Jls, sols
+
+
+def local_derivatives(model, datas, Ps, active):
+    """:func:`local_jacobians` with each record's derivatives with respect to its
+    ``active`` local parameters only: (B, len(active_i), n_i), in the order of
+    ``active_i`` (sorted)."""
     B = Ps[0].shape[0]
     cols, steps, fds = [], [], []
     for P, act in zip(Ps, active, strict=True):
@@ -228,19 +248,20 @@ def local_jacobians(model, datas, Ps, active):
         fds.append(fd)
     analytic = [tuple(PARAMS[l] for l in act if PARAMS[l] in ANALYTIC) for act in active]
     res, sols, ders = model.residuals(datas, cols, nderiv=[B] * len(cols), analytic=analytic)
-    out_r, out_J = [], []
-    for r, st, fd, der, an in zip(res, steps, fds, ders, analytic, strict=True):
+    out_r, out_D = [], []
+    for r, st, fd, der, an, act in zip(res, steps, fds, ders, analytic, active, strict=True):
         n = r.shape[1]
         base = r[:B]
-        Jl = np.zeros((B, len(PARAMS), n))
+        place = {l: i for i, l in enumerate(act)}
+        D = np.empty((B, len(place), n))
         if fd:
             pert = r[B:].reshape(len(fd), B, n)
-            Jl[:, fd] = np.moveaxis((pert - base[None]) / st.T[:, :, None], 0, 1)
+            D[:, [place[l] for l in fd]] = np.moveaxis((pert - base[None]) / st.T[:, :, None], 0, 1)
         if an:
-            Jl[:, [_P[a] for a in an]] = der
+            D[:, [place[_P[a]] for a in an]] = der
         out_r.append(base)
-        out_J.append(Jl)
-    return out_r, out_J, [None if s is None else s.head(B) for s in sols]
+        out_D.append(D)
+    return out_r, out_D, [None if s is None else s.head(B) for s in sols]
 
 
 def _solve_normal(J, r, damp):

@@ -144,6 +144,9 @@ UNITS = {
     "shift_width": "s",
 }
 _I = {name: i for i, name in enumerate(PARAMS)}
+#: The columns of :data:`CHAIN_PARAMS` and of the zero shift's sizes among :data:`PARAMS`.
+_CHAIN = np.array([_I[k] for k in CHAIN_PARAMS])
+_SHIFT = np.array([_I["shift_n"], _I["shift_t"]])
 #: The analytic parameters that mix the axes (their derivatives: :meth:`ForwardModel._dmix`).
 _MIXING = ("gain_n", "gain_t", "leak", "leak_tn")
 #: Local parameters whose derivatives the forward model gives in closed form (they scale,
@@ -700,6 +703,9 @@ class ForwardModel:
         """
         rows = []
         for d, P in zip(datas, Ps, strict=True):
+            if self.tangential == "none":  # the normal pulse depends on e alone
+                rows.append(P[:, _I["e"], None])
+                continue
             e = P[:, _I["e"]]
             v0 = P[:, _I["speed"]] * d.cos_a
             s0 = np.abs(d.slip0(P[:, _I["speed"]])) / v0
@@ -715,9 +721,7 @@ class ForwardModel:
                 )
             )
         allrows = np.concatenate(rows)
-        if self.tangential == "none":
-            allrows[:, 1:4] = 0.0
-        elif self.tangential == "coulomb":
+        if self.tangential == "coulomb":
             allrows[:, 2] = 0.0
         uniq, inv = _distinct_rows(allrows)
         e = uniq[:, 0]
@@ -856,10 +860,10 @@ class ForwardModel:
         respect to the ``analytic`` parameters (default every one of :data:`ANALYTIC`), one
         (nderiv, len(analytic), n_c) array per channel."""
         names = [c.name for c in data.channels]
-        chain = P[:, [_I[k] for k in CHAIN_PARAMS]]  # (C, 4): bandwidth, fn, ζ, τ
+        chain = P[:, _CHAIN]  # (C, 4): bandwidth, fn, ζ, τ
         bw, fn, tau = chain[:, 0], chain[:, 1], chain[:, 3]
         dynamic = np.isfinite(fn) | np.isfinite(tau)
-        shift = P[:, [_I["shift_n"], _I["shift_t"]]]
+        shift = P[:, _SHIFT]
         shifted = np.any(shift != 0.0)
         at, width = P[:, _I["shift_at"], None], P[:, _I["shift_width"], None]
         if data.fine is None or not np.any(np.isfinite(bw) | dynamic):

@@ -117,14 +117,14 @@ def run_fit(model, datas, design, init, vary, notes, *, n_boot=0, seed=0, priors
     )
     params = []  # the varied ones (lmfit's Parameters built once, by the Minimizer); the
     # fixed stay in ``base``
-    lower = np.full(len(names), -np.inf)
+    lower = np.full(len(names), -np.inf)  # the varied parameters' bounds (the fixed never move)
     upper = np.full(len(names), np.inf)
     base = np.array([float(init[n]) for n in names])
     for i, n in enumerate(names):
-        lo, hi = _bounds(base_name(n), init[n], datas[_rec(n, len(datas))])
-        lower[i], upper[i] = lo, hi
         if not varied[i]:
             continue
+        lo, hi = _bounds(base_name(n), init[n], datas[_rec(n, len(datas))])
+        lower[i], upper[i] = lo, hi
         v = float(np.clip(init[n], lo, hi))
         if not (lo < v < hi):  # start strictly inside the bounds
             v = lo + 1e-6 * (hi - lo) if v <= lo else hi - 1e-6 * (hi - lo)

@@ -195,10 +195,12 @@ class PulseTable:
         yn, w = self._weights
         d = y[:, None] - yn[None, :]
         exact = d == 0
-        with np.errstate(divide="ignore"):
-            lw = np.where(exact, 0.0, w / np.where(exact, 1.0, d))
-        hit = exact.any(axis=1)
-        lw[hit] = exact[hit].astype(float)  # a node: its own values
+        if exact.any():  # a node: its own values
+            hit = exact.any(axis=1)
+            lw = w / np.where(exact, 1.0, d)
+            lw[hit] = exact[hit].astype(float)
+        else:
+            lw = w / d
         lw /= lw.sum(axis=1, keepdims=True)
         out = lw @ self.data.reshape(self.data.shape[0], -1)
         out = out.reshape((e.size,) + self.data.shape[1:])  # (M, 7, n + 1)
