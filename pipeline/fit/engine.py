@@ -169,7 +169,7 @@ class Problem:
         """Weighted residuals at θ; the Jacobian there is computed with them and kept for
         :meth:`jacobian` (Levenberg–Marquardt asks for it at accepted points)."""
         theta = np.asarray(theta, dtype=float)
-        if self._last is None or not np.array_equal(self._last[0], theta):
+        if self._last is None or not (self._last[0] == theta).all():
             r, J = self.evaluate(theta[None, :], jacobian=True)
             self._last = (theta.copy(), r[0], J[0], self.solutions)
         return self._last[1]

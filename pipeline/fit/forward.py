@@ -725,7 +725,7 @@ class ForwardModel:
             allrows[:, 2] = 0.0
         uniq, inv = _distinct_rows(allrows)
         e = uniq[:, 0]
-        if np.any(~((e >= E_MIN) & (e <= 1.0))):
+        if not ((e >= E_MIN) & (e <= 1.0)).all():
             raise InputError(f"restitution outside [{E_MIN}, 1]: {e[(e < E_MIN) | (e > 1)]}")
         pulse = normal_pulse(self.normal, e, self.n_steps)
         tang = None
@@ -777,7 +777,7 @@ class ForwardModel:
         # the series side by side, (S, U·J): one gather per side of a step serves them all
         table = np.stack(series).reshape(len(series), -1)
         flat = k[:, None] * (n + 1) + j
-        a, b = np.take(table, flat, axis=1), np.take(table, flat + 1, axis=1)  # (S, C, n)
+        a, b = table.take(flat, axis=1), table.take(flat + 1, axis=1)  # (S, C, n)
         out, rates = [], []
         if nderiv:  # the rate's time factors, shared by the series
             d = slice(0, nderiv)
@@ -844,14 +844,14 @@ class ForwardModel:
             parts[key] = part
         out = []
         for name in names:
-            cols = []
-            for a in analytic:
+            der = np.empty((nderiv, len(analytic), tau.shape[1]))
+            for i, a in enumerate(analytic):
                 if a in _MIXING:
-                    cols.append(self._dmix(data.sensor.crosstalk, Pb, fn[b], ft, name, a))
+                    der[:, i] = self._dmix(data.sensor.crosstalk, Pb, fn[b], ft, name, a)
                     continue
                 dn, dt = parts["n"][a], None if parts["t"] is None else parts["t"][a]
-                cols.append(self._mix(data.sensor.crosstalk, Pb, dn, dt, [name])[0])
-            out.append(np.stack(cols, axis=1))
+                der[:, i] = self._mix(data.sensor.crosstalk, Pb, dn, dt, [name])[0]
+            out.append(der)
         return mixed, out
 
     def predict(self, data: RecordData, P, sol: Solution, nderiv: int = 0, analytic=ANALYTIC):
@@ -864,9 +864,9 @@ class ForwardModel:
         bw, fn, tau = chain[:, 0], chain[:, 1], chain[:, 3]
         dynamic = np.isfinite(fn) | np.isfinite(tau)
         shift = P[:, _SHIFT]
-        shifted = np.any(shift != 0.0)
+        shifted = bool(shift.any())
         at, width = P[:, _I["shift_at"], None], P[:, _I["shift_width"], None]
-        if data.fine is None or not np.any(np.isfinite(bw) | dynamic):
+        if data.fine is None or not (np.isfinite(bw) | dynamic).any():
             out, der = [], []
             for ch in data.channels:
                 m, d = self._forces(data, P, sol, ch.t, [ch.name], nderiv, analytic)
@@ -884,11 +884,11 @@ class ForwardModel:
         tc = sol.pulse.tau_c[sol.index] * T
         fine = data.fine
         first = t0.min() if not shifted else min(t0.min(), float(np.min(at - 0.5 * width)))
-        lo = max(int(np.searchsorted(fine, first)) - 1, 0)
-        hi = min(int(np.searchsorted(fine, (t0 + tc).max())) + 1, fine.size)
+        lo = max(int(fine.searchsorted(first)) - 1, 0)
+        hi = min(int(fine.searchsorted((t0 + tc).max())) + 1, fine.size)
         lo -= lo % data.oversample  # start on a sample instant
         step = fine[1] - fine[0] if fine.size > 1 else 1.0
-        plain = not np.any(dynamic)  # the low-pass alone: its rows grouped by bandwidth
+        plain = not dynamic.any()  # the low-pass alone: its rows grouped by bandwidth
         if plain:
             row_bw = bw.tolist()
             ring = data.sensor.ring_time(min(b for b in row_bw if math.isfinite(b)))

@@ -125,7 +125,7 @@ def run_fit(model, datas, design, init, vary, notes, *, n_boot=0, seed=0, priors
             continue
         lo, hi = _bounds(base_name(n), init[n], datas[_rec(n, len(datas))])
         lower[i], upper[i] = lo, hi
-        v = float(np.clip(init[n], lo, hi))
+        v = min(max(float(init[n]), lo), hi)
         if not (lo < v < hi):  # start strictly inside the bounds
             v = lo + 1e-6 * (hi - lo) if v <= lo else hi - 1e-6 * (hi - lo)
         params.append(lmfit.Parameter(n, value=v, min=lo, max=hi))

@@ -217,7 +217,7 @@ class PulseTable:
 
 def _check_e(e):
     e = np.atleast_1d(np.asarray(e, dtype=float))
-    if np.any(~((e >= E_MIN - 1e-12) & (e <= 1.0 + 1e-12))):
+    if not ((e >= E_MIN - 1e-12) & (e <= 1.0 + 1e-12)).all():
         raise InputError(
             f"restitution e = {e!r} is outside the tabulated range [{E_MIN}, 1] of the normal pulse"
         )
