@@ -14,7 +14,8 @@ of them costs little more than before:
   the noise model, so that correlated noise is not taken for a tone) are searched for a
   damped sinusoid :math:`A e^{-\sigma t}\cos(\omega_d t + \varphi)` common to the force
   channels: its frequency from the summed periodogram, then frequency and decay together
-  by maximising the χ² the sinusoid explains. The frequency gives :math:`\omega_d`, the
+  by maximising the χ² the sinusoid explains (Newton steps from the periodogram's peak,
+  the local maximum there). The frequency gives :math:`\omega_d`, the
   decay the logarithmic decrement :math:`\delta = 2\pi\sigma/\omega_d =
   2\pi\zeta/\sqrt{1-\zeta^2}`, so :math:`\omega_n = \sqrt{\omega_d^2 + \sigma^2}`,
   :math:`\zeta = \sigma/\omega_n`. It counts where the χ² it explains exceeds what the best
@@ -53,7 +54,7 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy import optimize, special
+from scipy import special
 
 from .engine import _pseudo_inverse, gauss_newton_many
 from .forward import _I, SHIFT_OF, SYSTEMATIC_PARAMS, Solution, weighted_residuals
@@ -312,22 +313,75 @@ def _trend(t):
 def _explained(X, dt, w, s, trend):
     """χ² the damped sinusoid e^{−s t}·(a cos ωt + b sin ωt), one (a, b) per channel,
     explains in the unit-variance segments, the columns of ``X`` (n, channels) sampled at
-    t = k·dt, beyond their quadratic ``trend``: the squared projection of each column on the
-    sinusoid's two (trend-free) columns, through their 2×2 Gram matrix. The pair is one
-    complex exponential z_k = q^k, q = e^{(iω − s)·dt}, its powers by a running product
-    (relative error ~k·10⁻¹⁶; the screen's search calls this a hundred times, and
-    trigonometric functions cost more than all the rest); its parts a few cycles long, far
-    from parallel."""
+    t = k·dt, beyond their quadratic ``trend``, at each of the K trials (``w``, ``s``)
+    [rad/s, 1/s] (K,): the squared projection of each column on the sinusoid's two
+    (trend-free) columns, through their 2×2 Gram matrix. The pair is one complex
+    exponential z_k = q^k, q = e^{(iω − s)·dt}, its powers by a running product (relative
+    error ~k·10⁻¹⁶; trigonometric functions cost more than all the rest), every trial in
+    one pass; its parts a few cycles long, far from parallel."""
+    w, s = np.broadcast_arrays(np.atleast_1d(np.asarray(w, float)), np.asarray(s, float))
     n = X.shape[0]
-    z = np.empty(n, dtype=complex)
-    z[0] = 1.0
-    np.cumprod(np.full(n - 1, np.exp(complex(-s * dt, w * dt))), out=z[1:])
-    Z = z.view(float).reshape(n, 2).T  # its real and imaginary parts, (2, n)
+    z = np.empty((w.size, n), dtype=complex)
+    z[:, 0] = 1.0
+    step = np.exp((-s + 1j * w) * dt)
+    np.cumprod(np.broadcast_to(step[:, None], (w.size, n - 1)), axis=1, out=z[:, 1:])
+    Z = z.view(float).reshape(w.size, n, 2).transpose(0, 2, 1)  # real, imaginary: (K, 2, n)
     Z = Z - (Z @ trend) @ trend.T
-    G = Z @ Z.T
-    a, b, c = float(G[0, 0]), float(G[0, 1]), float(G[1, 1])
-    pr, pi = Z @ X  # each column's products with both parts
-    return (c * float(pr @ pr) - 2.0 * b * float(pr @ pi) + a * float(pi @ pi)) / (a * c - b * b)
+    G = Z @ Z.transpose(0, 2, 1)
+    a, b, c = G[:, 0, 0], G[:, 0, 1], G[:, 1, 1]
+    pr, pi = (Z @ X).transpose(1, 0, 2)  # each column's products with both parts: (K, ch)
+    num = c * np.sum(pr * pr, axis=1) - 2.0 * b * np.sum(pr * pi, axis=1)
+    return (num + a * np.sum(pi * pi, axis=1)) / (a * c - b * b)
+
+
+#: The 3×3 stencil of :func:`_summit`, in steps.
+_STENCIL = np.array([(i, j) for i in (-1, 0, 1) for j in (-1, 0, 1)], dtype=float)
+
+
+def _summit(f, x, h, lower, upper, tol, gain_tol, max_iter=40):
+    """The local maximum within the box [``lower``, ``upper``] of a smooth function ``f`` of
+    two variables (called on K points (K, 2), returning (K,); defined beyond the box too)
+    that rises from ``x``: Newton steps from the quadratic through a 3×3 stencil of
+    half-width ``h`` (one call of ``f`` each), a variable held at a bound the function
+    rises beyond, the stencil narrowed to the step as the steps shrink; where the
+    quadratic has no maximum within reach, the stencil moves to its highest point in the
+    box, or narrows. Stops where a step is within ``tol`` in both variables or gains
+    under ``gain_tol``. Returns (x, f(x))."""
+    x = np.clip(np.asarray(x, dtype=float), lower, upper)
+    h = np.asarray(h, dtype=float)
+    for _ in range(max_iter):
+        points = x + _STENCIL * h
+        F = f(points)
+        c = F[4]
+        g = np.array([F[7] - F[1], F[5] - F[3]]) / (2.0 * h)
+        H = np.empty((2, 2))
+        H[0, 0] = (F[7] - 2.0 * c + F[1]) / h[0] ** 2
+        H[1, 1] = (F[5] - 2.0 * c + F[3]) / h[1] ** 2
+        H[0, 1] = H[1, 0] = (F[8] - F[6] - F[2] + F[0]) / (4.0 * h[0] * h[1])
+        free = ~(((x <= lower) & (g < 0.0)) | ((x >= upper) & (g > 0.0)))
+        step = None
+        Hf = H[np.ix_(free, free)]
+        if np.any(free) and np.all(np.linalg.eigvalsh(Hf) < 0.0):  # a maximum: Newton
+            step = np.zeros(2)
+            step[free] = -np.linalg.solve(Hf, g[free])
+            step = np.clip(x + step, lower, upper) - x
+            if np.any(np.abs(step) > 2.0 * h):
+                step = None
+        if step is None:
+            inside = np.all((points >= lower) & (points <= upper), axis=1)
+            k = int(np.argmax(np.where(inside, F, -np.inf)))
+            if F[k] - c > gain_tol:  # climb to the stencil's highest point in the box
+                x = points[k]
+            else:
+                h = h / 4.0
+                if np.all(h < tol):
+                    break
+            continue
+        x = x + step
+        if np.all(np.abs(step) < tol) or float(g @ step + 0.5 * step @ H @ step) < gain_tol:
+            break
+        h = np.clip(np.abs(step), h / 10.0, h)
+    return x, float(f(x[None, :])[0])
 
 
 def ringing_threshold(n: int, channels: int, false_alarm: float = FALSE_ALARM) -> float:
@@ -357,23 +411,30 @@ def _mode(r, data, t_end, scores):
         return None
     f0 = float(f[band][np.argmax(power[band])])
     w0 = 2 * math.pi * f0
-    starts = [w0 * z for z in (0.005, 0.02, 0.06, 0.2)]
     X = np.column_stack(segs)
-    best = max(starts, key=lambda s: _explained(X, dt, w0, s, trend))
+    starts = w0 * np.array([0.005, 0.02, 0.06, 0.2])
+    best = starts[int(np.argmax(_explained(X, dt, w0, starts, trend)))]
     lo, hi = 2 * math.pi * f_lo / w0, math.pi / dt / w0
 
-    def cost(x):
-        w, s = min(max(x[0], lo), hi) * w0, w0 * math.exp(min(x[1], 1.0))
-        return -_explained(X, dt, w, s, trend)
+    # the search's variables: ω/ω0, and ln(1 + s·T) for the decay s over the segment's
+    # T = n·dt (0: undamped; ln(s·T) where it decays within it), s ≤ e·ω0 (ζ ≈ 0.94)
+    T = n * dt
 
-    res = optimize.minimize(
-        cost,
-        [1.0, math.log(best / w0)],
-        method="Nelder-Mead",
-        options={"xatol": 1e-5, "fatol": 1e-6, "maxiter": 120},
+    def chi2_of(x):
+        return _explained(X, dt, x[:, 0] * w0, np.expm1(x[:, 1]) / T, trend)
+
+    # the peak's width in ω/ω0 is about 2π/(ω0·T): the search's steps are measured in it
+    width = 2 * math.pi / (w0 * T)
+    x, chi2 = _summit(
+        chi2_of,
+        [1.0, math.log1p(best * T)],
+        [0.1 * width, 0.1],
+        [lo, 0.0],
+        [hi, math.log1p(math.e * w0 * T)],
+        [1e-5 * width, 1e-5],
+        1e-7,
     )
-    w, s = min(max(res.x[0], lo), hi) * w0, w0 * math.exp(min(res.x[1], 1.0))
-    chi2 = -float(res.fun)
+    w, s = x[0] * w0, math.expm1(x[1]) / T
     wn = math.hypot(w, s)
     zeta = s / wn
     threshold = ringing_threshold(n, len(segs))
