@@ -317,3 +317,47 @@ def test_a_ring_after_the_pulse_is_no_second_impact():
         win = find_contact(rec)
     assert not win.other_pulses and MultipleImpactWarning not in [w.category for w in caught]
     assert win.t_start == pytest.approx(truth["t0"], abs=5e-6)
+
+
+# ---------------------------------------------------------------- the screen's own numbers
+def test_the_screen_finds_the_ring_at_the_mode_s_damped_frequency():
+    """The screen's ring (before the fit refines it) rings at the generator's mode,
+    ω_d = ω_n·√(1 − ζ²), with its damping ζ (Harris & Piersol 2002, ch. 2): the search for
+    the χ² a damped sinusoid explains peaks at the record's own oscillator."""
+    fit, truth, _ = _fit("resonance_near", 2)
+    zeta = truth["damping_ratio"]
+    f_d = truth["resonance"] * math.sqrt(1.0 - zeta**2)
+    assert fit.dynamics["ring_f_d"] == pytest.approx(f_d, rel=0.01)
+    assert fit.dynamics["ring_zeta"] == pytest.approx(zeta, rel=0.2)
+    assert fit.dynamics["ring_chi2"] > fit.dynamics["ring_threshold"]
+
+
+def test_the_bound_s_trial_changes_are_the_forward_model_s():
+    """The bound's trials (:func:`pipeline.fit.dynamics.bounds`) take the model's change
+    through each trial chain with the force computed once and each pole's state decaying
+    in closed form after the contact: the same rows as the forward model predicting every
+    trial column in full (a zero shift in the record, so its held step passes the chains)."""
+    from pipeline.fit import dynamics
+    from pipeline.fit.forward import _I, Solution, weighted_residuals
+
+    fit, _, _ = _fit("zero_shift", 3)
+    assert "shift_n" in fit.vary
+    p, theta, data, model = fit.problem, fit.theta, fit.data, fit.model
+    P = p.design.local(np.asarray(theta)[None, :])[0]
+    sol = p.solution(theta)[0]
+    dur = fit.physics["t_c"]
+    for name, values, fixed in (
+        ("resonance", np.geomspace(1.0, 100.0, 5) / dur, {"damping_ratio": 0.1}),
+        ("discharge", np.geomspace(1.0, 1e4, 5) * dur, {}),
+    ):
+        Pk = np.repeat(P, values.size + 1, axis=0)
+        Pk[1:, _I[name]] = values
+        for k, v in fixed.items():
+            Pk[1:, _I[k]] = v
+        sk = Solution(sol.pulse, sol.tang, np.repeat(sol.index[:1], values.size + 1))
+        pred = model.predict(data, Pk, sk)
+        full = -weighted_residuals(data, [m[1:] - m[:1] for m in pred], derivative=True)
+        fast = dynamics._trial_rows(data, model, P, sol, name, values, fixed)
+        scale = np.max(np.abs(full), axis=1, keepdims=True)
+        assert np.all(scale > 0)
+        assert np.max(np.abs(fast - full) / scale) < 1e-9

@@ -55,9 +55,18 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from scipy import special
+from scipy.signal import lfilter
 
 from .engine import _pseudo_inverse, gauss_newton_many
-from .forward import _I, SHIFT_OF, SYSTEMATIC_PARAMS, Solution, weighted_residuals
+from .forward import (
+    _I,
+    CHAIN_PARAMS,
+    SHIFT_OF,
+    SYSTEMATIC_PARAMS,
+    Solution,
+    weighted_residuals,
+    zero_shift,
+)
 
 __all__ = [
     "shift_spread",
@@ -489,13 +498,7 @@ def bounds(problem, theta, data, model, *, mode=True, discharge=True) -> dict:
     out = {}
     names = [problem.design.names[i] for i in problem.vary]
     for name, values, fixed in trials:
-        Pk = np.repeat(P, values.size + 1, axis=0)
-        Pk[1:, _I[name]] = values
-        for k, v in fixed.items():
-            Pk[1:, _I[k]] = v
-        sk = Solution(sol.pulse, sol.tang, np.repeat(sol.index[:1], values.size + 1))
-        pred = model.predict(data, Pk, sk)
-        rows = -weighted_residuals(data, [m[1:] - m[:1] for m in pred], derivative=True)
+        rows = _trial_rows(data, model, P, sol, name, values, fixed)
         perp = rows - (rows @ Q) @ Q.T
         dchi2 = np.einsum("kn,kn->k", perp, perp) - 2.0 * perp @ r
         allowed = dchi2 <= _EXCLUDED
@@ -508,6 +511,72 @@ def bounds(problem, theta, data, model, *, mode=True, discharge=True) -> dict:
             "effect": {nm: float(shift[:, j].max()) for j, nm in enumerate(names)},
         }
     return out
+
+
+def _trial_rows(data, model, P, sol, name, values, fixed) -> np.ndarray:
+    """The fit's rows (whitened, as :func:`pipeline.fit.forward.weighted_residuals`) of the
+    model's change when the sensor's ``name`` takes each of ``values`` (K,), the chain's
+    ``fixed`` parameters with it, from the fit's column ``P`` (1, …) and solution ``sol``:
+    (K, n_data).
+
+    What :meth:`~pipeline.fit.forward.ForwardModel.predict` gives for the trials less the
+    fit's own, without its work per trial: the force before the chain is the trials' one
+    (computed once), and each trial's chain (:meth:`pipeline.fit.sensor.SensorSpec.chain`,
+    a sum of first-order recursions, one per pole) runs only while the force changes —
+    after the contact (and a zero shift's course) it is constant, and each pole's state
+    decays as q^k in closed form."""
+    names = [c.name for c in data.channels]
+    chain = dict(zip(CHAIN_PARAMS, (float(P[0, _I[k]]) for k in CHAIN_PARAMS), strict=True))
+    scales = model.scales(data, P)
+    t0 = float(P[0, _I["t0"]])
+    fine, over = data.fine, data.oversample
+    t_end = t0 + float(sol.pulse.tau_c[sol.index[0]] * scales[1][0])
+    shift = [float(P[0, _I[SHIFT_OF[n]]]) for n in names]
+    at, width = float(P[0, _I["shift_at"]]), float(P[0, _I["shift_width"]])
+    first, last = t0, t_end
+    if any(shift):
+        first, last = min(t0, at - 0.5 * width), max(t_end, at + 0.5 * width)
+    lo = max(int(np.searchsorted(fine, first)) - 1, 0)
+    hi = min(int(np.searchsorted(fine, last)) + 1, fine.size)
+    lo -= lo % over  # start on a sample instant
+    forces, _ = model._forces(data, P[:1], sol, fine[lo:hi], names, 0, scales=scales)
+    x = np.concatenate(forces)  # (channels, span)
+    if any(shift):
+        ramp = zero_shift(fine[None, lo:hi], at, width)
+        x = x + np.array(shift)[:, None] * ramp
+    k0 = lo // over
+    n_span = (hi - lo - 1) // over + 1  # sample instants in the span
+    n_after = data.n_grid - k0 - n_span
+    lag = over * n_span - (hi - lo - 1)  # fine steps from the span's end to the next sample
+    step = float(fine[1] - fine[0])
+    out = np.zeros((values.size, len(names), data.n_grid))
+    states, ratios, owner = [], [], []  # each pole's state at the first sample after the span
+    for j, value in enumerate(values):
+        filt = data.sensor.chain(step, **{**chain, **fixed, name: float(value)})
+        y = filt.direct * x
+        out[j, :, k0 + n_span :] = filt.direct * x[:, -1:]
+        for q, c, two in zip(filt.poles, filt.gains, filt.pair, strict=True):
+            if not two:  # a real pole
+                q, c = q.real, c.real
+            w = lfilter([1.0, -1.0], [1.0, -q], x.astype(complex) if two else x, axis=-1)
+            y = y + (2.0 * (c * w).real if two else c * w)
+            states.append((2.0 if two else 1.0) * c * w[:, -1] * q**lag)
+            ratios.append(q**over)
+            owner.append(j)
+        out[j, :, k0 : k0 + n_span] = y[:, ::over]
+    if n_after > 0 and states:  # the states decay by q^oversample a sample: powers at once
+        powers = np.empty((len(ratios), n_after), dtype=complex)
+        powers[:, 0] = 1.0
+        np.cumprod(
+            np.broadcast_to(np.array(ratios, dtype=complex)[:, None], (len(ratios), n_after - 1)),
+            axis=1,
+            out=powers[:, 1:],
+        )
+        decay = (np.array(states)[:, :, None] * powers[:, None, :]).real
+        np.add.at(out[:, :, k0 + n_span :], np.array(owner), decay)
+    own = model.predict(data, P[:1], sol)
+    change = [data.at_channel(out[:, i], i) - own[i][:1] for i in range(len(names))]
+    return -weighted_residuals(data, change, derivative=True)
 
 
 #: The zero shift's courses its spread is taken over: the instant it is half done and the
