@@ -510,3 +510,45 @@ def test_alpha_parametrisation_is_the_same_fit(noisy):
     c = contact.cor_hunt_crossley_alpha(fa.values["alpha"], sc.v_n0)
     assert c == pytest.approx(fe.values["e"], abs=1e-6)
     assert fa.chi2 == pytest.approx(fe.chi2, rel=1e-6)
+
+
+def test_the_verdict_s_law_table_and_spread_are_independent_refits():
+    """The verdict's fits start warm (the law's own refit from the fit's optimum with its
+    systematics stepped back linearly, the other laws from the fitted pulse's shape): each
+    row of its law table is the fit a lab would make cold from the record — the same law,
+    the inputs taken as exact (``systematics={}``) — and its model spread is Burnham &
+    Anderson's Akaike-weighted spread of those fits (§4.3.2, doi:10.1007/b97636). A
+    head-on record at 6 % noise, where the other laws' weights are small but not nil."""
+    sc = gr(angle_deg=0.0)
+    ideal = impact(sc, normal="hunt_crossley", samples=2001)
+    rec = to_sensor(ideal, noise=0.06 * ideal.attrs["F_max"], seed=5)
+    told = sc.replace(e=None)
+    fit = quiet(fit_contact, rec, told, tangential="none", n_boot=0)
+    cold = {
+        law: quiet(
+            fit_contact,
+            rec,
+            told,
+            normal=law,
+            tangential="none",
+            systematics={},
+            diagnose=False,
+            n_boot=0,
+        )  # fmt: skip
+        for law in ("hunt_crossley", "hertz_dashpot", "viscoelastic", "thornton")
+    }
+    assert set(fit.alternatives) == set(cold)
+    se = cold["hunt_crossley"].stderr
+    for law, f in cold.items():
+        row = fit.alternatives[law]
+        assert row["aic"] == pytest.approx(f.aic, abs=0.01)
+        for name in ("E_eff", "e"):
+            assert abs(row["values"][name] - f.values[name]) < 0.02 * se[name]
+    best = min(f.aic for f in cold.values())
+    w = {law: math.exp(-0.5 * (f.aic - best)) for law, f in cold.items()}
+    total = sum(w.values())
+    assert 1e-9 < 1.0 - w["hunt_crossley"] / total < 1e-3  # the others weigh, a little
+    for name in ("E_eff", "e"):
+        own = cold["hunt_crossley"].values[name]
+        spread = math.sqrt(sum(w[k] / total * (f.values[name] - own) ** 2 for k, f in cold.items()))
+        assert fit.model_spread[name] == pytest.approx(spread, rel=0.02)

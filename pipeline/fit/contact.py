@@ -1144,6 +1144,43 @@ def _warm_start(fit, model, vary) -> dict:
     return {n: v for n, v in out.items() if n in vary}
 
 
+def _stated_start(fit, vary) -> dict:
+    """Starting values of ``fit``'s model refitted with its inputs taken as exact (the
+    verdict's own law): ``fit``'s parameters in ``vary`` moved to where the systematics
+    back at their stated values put them, linearised — δc = −(J_cᵀJ_c)⁻¹J_cᵀ(r + J_s·Δs),
+    J the fit's Jacobian on the data's rows, c the contact parameters, Δs the systematics'
+    steps back — so that the refit starts a small fraction of a standard error from its
+    optimum. ``fit``'s own values where a systematic has no stated value (a mode the screen
+    found), where the step is beyond :data:`_LINEAR_REACH` standard errors (a wrong
+    model's systematics move far, beyond the linearisation's reach), and for a parameter
+    without a standard error (bound on one side only)."""
+    theta = dict(zip(fit.names, (float(v) for v in fit.theta), strict=True))
+    start = {n: theta[n] for n in vary}
+    p = fit.problem
+    names = [fit.names[i] for i in p.vary]
+    held = [n for n in names if n not in vary]
+    if not held or any(n not in fit.priors for n in held):
+        return start
+    n = p.n_data
+    J = p.jacobian(fit.theta)[:n]
+    scale = np.linalg.norm(J, axis=0)  # the columns' units differ by 10¹⁵ (Pa, s)
+    free = [k for k in vary if k in names and scale[names.index(k)] > 0]
+    c = [names.index(k) for k in free]
+    step = np.array([fit.priors[k][0] - theta[k] for k in held])
+    rhs = p.residual(fit.theta)[:n] + J[:, [names.index(k) for k in held]] @ step
+    dc = -np.linalg.lstsq(J[:, c] / scale[c], rhs, rcond=None)[0] / scale[c]
+    se = np.array([fit.stderr.get(k, math.nan) for k in free])
+    known = np.isfinite(se)  # a parameter bound on one side only keeps its value
+    if not np.all(np.abs(dc[known]) <= _LINEAR_REACH * se[known]):
+        return start
+    moved = {k: start[k] + float(d) for k, d, ok in zip(free, dc, known, strict=True) if ok}
+    return {**start, **moved}
+
+
+#: The largest step, in standard errors, :func:`_stated_start` takes from the linearisation.
+_LINEAR_REACH = 3.0
+
+
 def _shape_match(model, law, e, other, lam, shift, free_e) -> tuple[float, float, float]:
     """(e′, λ, c): ``other``'s dimensionless pulse f′((τ − c)/λ; e′)/λ closest in least
     squares to ``law``'s f(τ; e) (both on ``model``'s steps; τ in δ*/v0 of ``law``'s pulse),
@@ -1213,9 +1250,9 @@ def _diagnosed(fit, record, scene, vary, options, t_begin, data) -> ContactFit:
         held = {k: fit.values[k] for k in SHIFT_PARAMS if k in fit.vary}
         quiet["start"] = {**(quiet.get("start") or {}), **held}
 
-    def refit(model, start_from=fit, order=None, **extra):
+    def refit(model, start_from=fit, order=None, warm=None, **extra):
         alt_vary = tuple("e" if v == "alpha" and model.normal != m.normal else v for v in vary)
-        warm = _warm_start(start_from, model, alt_vary)
+        warm = _warm_start(start_from, model, alt_vary) if warm is None else warm
         seen = data
         if order is not None:
             seen = data.with_sensor(dataclasses.replace(spec, filter_order=order, notes=()))
@@ -1231,7 +1268,7 @@ def _diagnosed(fit, record, scene, vary, options, t_begin, data) -> ContactFit:
 
     laws = alternative_laws(m.normal)
     orders = alternative_orders(fit)
-    own = refit(m, systematics={}) if laws or orders else None
+    own = refit(m, warm=_stated_start(fit, vary), systematics={}) if laws or orders else None
     exact = {m.normal: own} if laws else {}
     for law in laws:
         other = ForwardModel(law, m.tangential, m.history, m.n_steps)
