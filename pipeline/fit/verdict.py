@@ -165,16 +165,17 @@ def model_spread(fit, fits: dict, own=None) -> tuple[dict, dict]:
     spend them on its misfit."""
     weights = akaike_weights({k: f.aic for k, f in fits.items()})
     best = min(f.aic for f in fits.values())
-    own = fits[fit.normal if own is None else own]
+    values = {k: f.values for k, f in fits.items()}  # each fit's once (a property)
+    own = values[fit.normal if own is None else own]
+    one_sided = fit.one_sided
     spread = {}
     for name in fit.vary:
-        if name in fit.priors or name in fit.one_sided or name not in own.values:
+        if name in fit.priors or name in one_sided or name not in own:
             continue
-        v0 = own.values[name]
         s2 = sum(
-            w * (fits[k].values[name] - v0) ** 2
+            w * (values[k][name] - own[name]) ** 2
             for k, w in weights.items()
-            if name in fits[k].values and np.isfinite(fits[k].values[name])
+            if name in values[k] and np.isfinite(values[k][name])
         )
         spread[name] = math.sqrt(s2)
     table = {
@@ -182,7 +183,7 @@ def model_spread(fit, fits: dict, own=None) -> tuple[dict, dict]:
             "aic": f.aic,
             "delta_aic": f.aic - best,
             "weight": weights[k],
-            "values": {n: f.values[n] for n in ("E_eff", "e", "mu", "kt_scale") if n in f.values},
+            "values": {n: values[k][n] for n in ("E_eff", "e", "mu", "kt_scale") if n in values[k]},
         }
         for k, f in fits.items()
     }
