@@ -329,18 +329,20 @@ def _explained(X, dt, w, s, trend):
     error ~k·10⁻¹⁶; trigonometric functions cost more than all the rest), every trial in
     one pass; its parts a few cycles long, far from parallel."""
     w, s = np.broadcast_arrays(np.atleast_1d(np.asarray(w, float)), np.asarray(s, float))
-    n = X.shape[0]
-    z = np.empty((w.size, n), dtype=complex)
+    K, n = w.size, X.shape[0]
+    z = np.empty((K, n), dtype=complex)
     z[:, 0] = 1.0
     step = np.exp((-s + 1j * w) * dt)
-    np.cumprod(np.broadcast_to(step[:, None], (w.size, n - 1)), axis=1, out=z[:, 1:])
-    Z = z.view(float).reshape(w.size, n, 2).transpose(0, 2, 1)  # real, imaginary: (K, 2, n)
-    Z = Z - (Z @ trend) @ trend.T
-    G = Z @ Z.transpose(0, 2, 1)
-    a, b, c = G[:, 0, 0], G[:, 0, 1], G[:, 1, 1]
-    pr, pi = (Z @ X).transpose(1, 0, 2)  # each column's products with both parts: (K, ch)
-    num = c * np.sum(pr * pr, axis=1) - 2.0 * b * np.sum(pr * pi, axis=1)
-    return (num + a * np.sum(pi * pi, axis=1)) / (a * c - b * b)
+    np.cumprod(np.broadcast_to(step[:, None], (K, n - 1)), axis=1, out=z[:, 1:])
+    # the trials' real and imaginary parts, rows 2k and 2k + 1 of one (2K, n) array
+    Z = np.ascontiguousarray(z.view(float).reshape(K, n, 2).transpose(0, 2, 1)).reshape(2 * K, n)
+    Z -= (Z @ trend) @ trend.T
+    re, im = Z[0::2], Z[1::2]
+    a, b, c = (np.einsum("kn,kn->k", u, v) for u, v in ((re, re), (re, im), (im, im)))
+    P = Z @ X  # each column's products with both parts
+    pr, pi = P[0::2], P[1::2]
+    num = c * np.einsum("kc,kc->k", pr, pr) - 2.0 * b * np.einsum("kc,kc->k", pr, pi)
+    return (num + a * np.einsum("kc,kc->k", pi, pi)) / (a * c - b * b)
 
 
 #: The 3×3 stencil of :func:`_summit`, in steps.
@@ -369,10 +371,13 @@ def _summit(f, x, h, lower, upper, tol, gain_tol, max_iter=40):
         H[0, 1] = H[1, 0] = (F[8] - F[6] - F[2] + F[0]) / (4.0 * h[0] * h[1])
         free = ~(((x <= lower) & (g < 0.0)) | ((x >= upper) & (g > 0.0)))
         step = None
-        Hf = H[np.ix_(free, free)]
-        if np.any(free) and np.all(np.linalg.eigvalsh(Hf) < 0.0):  # a maximum: Newton
-            step = np.zeros(2)
-            step[free] = -np.linalg.solve(Hf, g[free])
+        det = H[0, 0] * H[1, 1] - H[0, 1] ** 2
+        if free.all() and H[0, 0] < 0.0 and det > 0.0:  # a maximum: the Newton step
+            step = -np.array([H[1, 1] * g[0] - H[0, 1] * g[1], H[0, 0] * g[1] - H[0, 1] * g[0]])
+            step /= det
+        elif free.any() and H[free, free][0] < 0.0:  # the other held at its bound
+            step = np.where(free, -g / np.diag(H), 0.0)
+        if step is not None:
             step = np.clip(x + step, lower, upper) - x
             if np.any(np.abs(step) > 2.0 * h):
                 step = None
