@@ -525,8 +525,8 @@ def _trial_rows(data, model, P, sol, name, values, fixed) -> np.ndarray:
     (K, n_data).
 
     What :meth:`~pipeline.fit.forward.ForwardModel.predict` gives for the trials less the
-    fit's own, without its work per trial: the force before the chain is the trials' one
-    (computed once), and each trial's chain (:meth:`pipeline.fit.sensor.SensorSpec.chain`,
+    fit's own, without its work per trial: the force before the chain is the same for every
+    trial (computed once), and each trial's chain (:meth:`pipeline.fit.sensor.SensorSpec.chain`,
     a sum of first-order recursions, one per pole) runs only while the force changes —
     after the contact (and a zero shift's course) it is constant, and each pole's state
     decays as q^k in closed form."""
