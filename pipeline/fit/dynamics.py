@@ -502,8 +502,9 @@ def bounds(problem, theta, data, model, *, mode=True, discharge=True) -> dict:
         trials.append(("discharge", _TAU_BOUND * dur, {}))
     out = {}
     names = [problem.design.names[i] for i in problem.vary]
+    own = model.predict(data, P, sol)
     for name, values, fixed in trials:
-        rows = _trial_rows(data, model, P, sol, name, values, fixed)
+        rows = _trial_rows(data, model, P, sol, name, values, fixed, own)
         perp = rows - (rows @ Q) @ Q.T
         dchi2 = np.einsum("kn,kn->k", perp, perp) - 2.0 * perp @ r
         allowed = dchi2 <= _EXCLUDED
@@ -518,11 +519,12 @@ def bounds(problem, theta, data, model, *, mode=True, discharge=True) -> dict:
     return out
 
 
-def _trial_rows(data, model, P, sol, name, values, fixed) -> np.ndarray:
+def _trial_rows(data, model, P, sol, name, values, fixed, own=None) -> np.ndarray:
     """The fit's rows (whitened, as :func:`pipeline.fit.forward.weighted_residuals`) of the
     model's change when the sensor's ``name`` takes each of ``values`` (K,), the chain's
-    ``fixed`` parameters with it, from the fit's column ``P`` (1, …) and solution ``sol``:
-    (K, n_data).
+    ``fixed`` parameters with it, from the fit's column ``P`` (1, …) and solution ``sol``
+    (``own``: the model there, :meth:`~pipeline.fit.forward.ForwardModel.predict`, where
+    already computed): (K, n_data).
 
     What :meth:`~pipeline.fit.forward.ForwardModel.predict` gives for the trials less the
     fit's own, without its work per trial: the force before the chain is the same for every
@@ -579,7 +581,7 @@ def _trial_rows(data, model, P, sol, name, values, fixed) -> np.ndarray:
         )
         decay = (np.array(states)[:, :, None] * powers[:, None, :]).real
         np.add.at(out[:, :, k0 + n_span :], np.array(owner), decay)
-    own = model.predict(data, P[:1], sol)
+    own = model.predict(data, P[:1], sol) if own is None else own
     change = [data.at_channel(out[:, i], i) - own[i][:1] for i in range(len(names))]
     return -weighted_residuals(data, change, derivative=True)
 
