@@ -750,50 +750,37 @@ class ForwardModel:
     # -------------------------------------------------------------- predict
     def _true_forces(self, sol: Solution, tau, need_t, nderiv=0):
         """Fn, Ft (dimensionless) at τ (C, n) by cubic Hermite on the nodes, 0 out of contact;
-        with ``nderiv`` > 0 also their rates d/dτ at the first ``nderiv`` columns."""
+        with ``nderiv`` > 0 also their rates d/dτ at the first ``nderiv`` columns.
+
+        Each step's cubic is worked out once on the nodes (:func:`_cubic_steps`), so an
+        instant costs one gather of its step's coefficients and Horner's rule; the instants
+        out of contact take the zero step after the last."""
         pul = sol.pulse
         k = sol.index
         n = pul.n_steps
-        h = (pul.tau_c / n)[k][:, None]
+        step = pul.tau_c[:, None] / n  # (U, 1) of the unique problems
+        tables = [_cubic_steps(pul.f, pul.df, step)]
+        if need_t and sol.tang is not None:
+            tables.append(_cubic_steps(sol.tang.ft, sol.tang.dft, step, sol.tang.kink))
+        # the series' coefficients side by side, (4·S, U·(n + 1)): one gather serves them all
+        table = np.concatenate(tables).reshape(4 * len(tables), -1)
+        h = step[k]
         s = tau / h
-        inside = (s >= 0) & (s <= n)
         j = s.astype(int)
         np.minimum(np.maximum(j, 0, out=j), n - 1, out=j)  # np.clip's checks cost more
         th = s - j
-        t2 = th * th
-        t3 = t2 * th
-        h00, h10, h01, h11 = (
-            2 * t3 - 3 * t2 + 1,
-            (t3 - 2 * t2 + th) * h,
-            3 * t2 - 2 * t3,
-            (t3 - t2) * h,
-        )
-        series = [pul.f, pul.df]
-        kink = None
-        if need_t and sol.tang is not None:
-            series += [sol.tang.ft, sol.tang.dft]
-            if sol.tang.kink is not None:  # steps holding a mode switch: linear
-                kink = np.take(sol.tang.kink.reshape(-1), k[:, None] * (n + 1) + j)
-        # the series side by side, (S, U·J): one gather per side of a step serves them all
-        table = np.stack(series).reshape(len(series), -1)
-        flat = k[:, None] * (n + 1) + j
-        a, b = table.take(flat, axis=1), table.take(flat + 1, axis=1)  # (S, C, n)
+        away = ~((s >= 0) & (s <= n))  # out of contact (or no instant): the zero step
+        j[away] = n
+        th[away] = 0.0
+        c = table.take(k[:, None] * (n + 1) + j, axis=1)  # (4·S, C, n)
         out, rates = [], []
-        if nderiv:  # the rate's time factors, shared by the series
-            d = slice(0, nderiv)
-            hd, ind = h[d], inside[d]
-            g0, g1, g2 = 6 * t2[d] - 6 * th[d], 3 * t2[d] - 4 * th[d] + 1, 3 * t2[d] - 2 * th[d]
-        for i in range(0, len(series), 2):
-            y0, d0, y1, d1 = a[i], a[i + 1], b[i], b[i + 1]
-            y = h00 * y0 + h10 * d0 + h01 * y1 + h11 * d1
-            if i and kink is not None:
-                y = np.where(kink, y0 + th * (y1 - y0), y)
-            out.append(np.where(inside, y, 0.0))
+        d = slice(0, nderiv)
+        for i in range(0, c.shape[0], 4):
+            c0, c1, c2, c3 = c[i : i + 4]
+            out.append(c0 + th * (c1 + th * (c2 + th * c3)))
             if nderiv:
-                g = g0 * (y0[d] - y1[d]) / hd + g1 * d0[d] + g2 * d1[d]
-                if i and kink is not None:
-                    g = np.where(kink[d], (y1[d] - y0[d]) / hd, g)
-                rates.append(np.where(ind, g, 0.0))
+                t = th[d]
+                rates.append((c1[d] + t * (2.0 * c2[d] + 3.0 * t * c3[d])) / h[d])
         out[0] = np.maximum(out[0], 0.0)
         if len(out) == 1:
             out.append(None)
@@ -1065,6 +1052,28 @@ def _filtered(spec, step, bandwidth, x):
     if sos.shape[0] == 1:
         return lfilter(sos[0, :3], sos[0, 3:], x, axis=-1)
     return sosfilt(sos, x, axis=-1)
+
+
+def _cubic_steps(y, dy, step, kink=None):
+    """The cubic Hermite interpolant of node values ``y`` and rates ``dy`` (U, n + 1) on
+    steps of ``step`` (U, 1), as each step's power series in θ = (τ − τ_j)/step ∈ [0, 1]:
+    ``c0 + θ·(c1 + θ·(c2 + θ·c3))``, shape (4, U, n + 1) — the steps, then a zero one (the
+    instants out of contact). Steps flagged in ``kink`` (U, n + 1: a stick/slide switch
+    inside) are linear between their nodes."""
+    y0, y1 = y[:, :-1], y[:, 1:]
+    a, b = step * dy[:, :-1], step * dy[:, 1:]
+    rise = y1 - y0
+    c = np.zeros((4,) + y.shape)
+    c[0, :, :-1] = y0
+    c[1, :, :-1] = a
+    c[2, :, :-1] = 3.0 * rise - 2.0 * a - b
+    c[3, :, :-1] = a + b - 2.0 * rise
+    if kink is not None and kink.any():
+        lin = kink[:, :-1]
+        c[1, :, :-1][lin] = rise[lin]
+        c[2, :, :-1][lin] = 0.0
+        c[3, :, :-1][lin] = 0.0
+    return c
 
 
 def _distinct_rows(a):
