@@ -252,6 +252,16 @@ def _spike_stats(y, k):
     return d, np.maximum(rss, 0.0) / 3.0
 
 
+def _spike_residuals(y):
+    """d of :func:`_spike_stats` at every interior sample 3 … n − 4 (the misfit, which only
+    the few candidates need, left out)."""
+    m = y.size - 6
+    nb = np.empty((m, _SPIKE_OFFSETS.size))
+    for j, offset in enumerate(_SPIKE_OFFSETS):
+        nb[:, j] = y[3 + offset : 3 + offset + m]
+    return y[3:-3] - nb @ _SPIKE_WEIGHTS
+
+
 def _spike_at(y, i, n, kk, sd, sigma):
     """The value sample ``i`` of ``y`` takes on its neighbours' curve where it is a spike
     (:func:`find_spikes`), else None."""
@@ -312,8 +322,7 @@ def find_spikes(y, *, k: float | None = None, false_alarm: float = 1e-3, sigma=N
     n = y.size
     if n < 7:
         return np.zeros(0, int), np.zeros(0)
-    inner = np.arange(3, n - 3)
-    d, _ = _spike_stats(y, inner)
+    d = _spike_residuals(y)  # at samples 3 … n − 4
     if sigma is None:
         sigma = mad_sigma(d) / math.sqrt(1.5)
         if not sigma > 0:
@@ -331,8 +340,8 @@ def find_spikes(y, *, k: float | None = None, false_alarm: float = 1e-3, sigma=N
     sd = sigma * math.sqrt(1.5)
     kk = default_threshold(n, false_alarm) if k is None else float(k)
     found, values = [], []
-    order = inner[np.argsort(-np.abs(d))]
-    candidates = [int(i) for i in order[np.abs(d[order - 3]) > kk * sd]]
+    candidates = np.flatnonzero(np.abs(d) > kk * sd)
+    candidates = (3 + candidates[np.argsort(-np.abs(d[candidates]), kind="stable")]).tolist()
     while True:  # largest first; a pass again after each repair (a near one may now pass)
         for i in candidates:
             repaired = _spike_at(y, i, n, kk, sd, sigma)
@@ -346,6 +355,43 @@ def find_spikes(y, *, k: float | None = None, false_alarm: float = 1e-3, sigma=N
             break
     idx = np.argsort(found)
     return np.asarray(found, dtype=int)[idx], np.asarray(values)[idx]
+
+
+@dataclass(frozen=True)
+class _Uncut:
+    """A window's record not cut yet: the record it is cut from (:func:`apply_window`)."""
+
+    source: xr.Dataset
+
+
+class _WindowedRecord:
+    """:attr:`ContactWindow.record`, cut from its source record when first read.
+
+    A fit reads only the window's numbers, and cutting an xarray Dataset (its index, its
+    variables, its attributes copied) costs more than finding the window: so
+    :func:`find_contact` leaves an :class:`_Uncut` here, and the first read replaces it by
+    :func:`apply_window`'s Dataset (a record changed in place between the two shows the
+    change, as any xarray view would; the pipeline never changes a record in place).
+    """
+
+    def __set_name__(self, owner, name):
+        self.slot = "_" + name
+
+    def __get__(self, window, owner=None):
+        if window is None:
+            return self
+        value = window.__dict__[self.slot]
+        if isinstance(value, _Uncut):
+            value = apply_window(value.source, window)
+            window.__dict__[self.slot] = value
+        return value
+
+    def __set__(self, window, value):
+        # the dataclass's __init__ passes this descriptor itself where no record is given
+        window.__dict__[self.slot] = None if value is self else value
+
+    def __repr__(self):
+        return "None"  # the default, as a signature shows it
 
 
 @dataclass(frozen=True)
@@ -389,7 +435,7 @@ class ContactWindow:
     n_samples: int = 0
     threshold: float = float("nan")
     peak: float = float("nan")
-    record: xr.Dataset | None = field(default=None, repr=False, compare=False)
+    record: xr.Dataset | None = field(default=_WindowedRecord(), repr=False, compare=False)
     other_pulses: tuple = ()
     glitches: tuple = ()
     spikes: tuple = ()
@@ -398,6 +444,10 @@ class ContactWindow:
     def duration(self) -> float:
         """Contact duration t_end − t_start [s]."""
         return self.t_end - self.t_start
+
+    def __getstate__(self):
+        """A pickled or copied window carries its cut record (not the whole source)."""
+        return {**self.__dict__, "_record": self.record}
 
     def spike_indices(self) -> dict:
         """{channel: [sample indices]} of the spikes (:attr:`spikes`)."""
@@ -457,11 +507,7 @@ def apply_window(record: xr.Dataset, window: ContactWindow) -> xr.Dataset:
         ``window_t_start``, ``window_t_end`` [s] and ``baseline_removed`` (0/1) added.
     """
     t = times(record)
-    # a tolerance of a few ulp keeps samples that sit exactly on the window's ends
-    tol = 4 * np.finfo(float).eps * max(abs(window.t_start), abs(window.t_end), 1e-300)
-    idx = np.flatnonzero((t >= window.t_start - tol) & (t <= window.t_end + tol))
-    if idx.size and idx[-1] - idx[0] + 1 == idx.size:  # sorted times: one slice
-        idx = slice(int(idx[0]), int(idx[-1]) + 1)
+    idx = _inside(t, window.t_start, window.t_end)
     # select first, then copy: only the window's samples are copied (the input stays as is).
     # Data never set through .values, which has xarray probe the arrays for dask arrays and
     # so import dask (pipeline.record.time_variable): a deep copy of the selection (the
@@ -492,6 +538,17 @@ def apply_window(record: xr.Dataset, window: ContactWindow) -> xr.Dataset:
         baseline_removed=int(removed),
     )
     return out
+
+
+def _inside(t, t_start, t_end):
+    """The indices of the instants ``t`` [s] in [t_start, t_end] [s]: a slice where they are
+    one run (sorted times), else an array."""
+    # a tolerance of a few ulp keeps samples that sit exactly on the window's ends
+    tol = 4 * np.finfo(float).eps * max(abs(t_start), abs(t_end), 1e-300)
+    idx = np.flatnonzero((t >= t_start - tol) & (t <= t_end + tol))
+    if idx.size and idx[-1] - idx[0] + 1 == idx.size:
+        return slice(int(idx[0]), int(idx[-1]) + 1)
+    return idx
 
 
 #: Attribute values no one can change in place: shared by a copy.
@@ -579,18 +636,23 @@ def _channels(record):
     return [c for c in FORCE_CHANNELS if c in record]
 
 
-def _finish(record, t_start, t_end, kind, noise, baseline, threshold, peak):
-    params = ContactWindow(
+def _finish(record, t, t_start, t_end, kind, noise, baseline, threshold, peak, **found):
+    """The window of ``record`` (instants ``t`` [s]), its record left to be cut when read;
+    ``found``: the other pulses, glitches and spikes."""
+    inside = _inside(t, float(t_start), float(t_end))
+    n_samples = inside.stop - inside.start if isinstance(inside, slice) else inside.size
+    return ContactWindow(
         t_start=float(t_start),
         t_end=float(t_end),
         kind=kind,
         noise=noise,
         baseline=baseline,
+        n_samples=int(n_samples),
         threshold=float(threshold),
         peak=float(peak),
+        record=_Uncut(record),
+        **found,
     )
-    windowed = apply_window(record, params)
-    return dataclasses.replace(params, n_samples=int(windowed.sizes["time"]), record=windowed)
 
 
 def _passthrough(record):
@@ -610,6 +672,7 @@ def _passthrough(record):
     chans = _channels(record)
     win = _finish(
         record,
+        t,
         t[0],
         t[-1] if end is None else end,
         "digitised",
@@ -617,8 +680,10 @@ def _passthrough(record):
         {c: Baseline() for c in chans},
         float("nan"),
         np.max(fn),
+        other_pulses=tuple(later),
     )
-    return _with_later(win, later, record.attrs.get("source"))
+    _warn_later_pulses(win, record.attrs.get("source"))
+    return win
 
 
 def _simulated(record):
@@ -634,6 +699,7 @@ def _simulated(record):
     chans = _channels(record)
     win = _finish(
         record,
+        t,
         t[i0],
         t[i1],
         "simulated",
@@ -641,8 +707,10 @@ def _simulated(record):
         {c: Baseline() for c in chans},
         float("nan"),
         fn[: i1 + 1].max(),
+        other_pulses=tuple(later),
     )
-    return _with_later(win, later, src)
+    _warn_later_pulses(win, src)
+    return win
 
 
 #: A digitised Fn at or below this fraction of its peak is at the baseline (the clicks'
@@ -676,23 +744,33 @@ def _first_pulse(t, f, level):
     return float(t[b0 + 1]), later
 
 
-def _with_later(win, later, src):
-    """The window with the later pulses listed, and their MultipleImpactWarning."""
-    if not later:
-        return win
-    _warn_later(src, [(a, p) for a, _, p in later], win.peak)
-    return dataclasses.replace(win, other_pulses=tuple(later))
+def _warn_later_pulses(win, src):
+    """The MultipleImpactWarning of the window's later pulses, if it has any."""
+    if win.other_pulses:
+        _warn_later(src, [(a, p) for a, _, p in win.other_pulses], win.peak)
 
 
 def _fit_line(t, y, mask, t_ref, both_sides):
-    tt = t[mask] - t_ref
-    yy = y[mask]
-    if both_sides:
-        # the least-squares line in closed form, about the samples' mean instant
-        x = tt - tt.mean()
-        s = float(x @ (yy - yy.mean())) / float(x @ x)
-        return Baseline(float(yy.mean() - s * tt.mean()), s, float(t_ref))
-    return Baseline(float(np.mean(yy)), 0.0, float(t_ref))
+    """The baseline of ``y`` through its samples where ``mask`` (instants ``t`` [s])."""
+    return _line(t[mask], y[mask], t_ref, both_sides)
+
+
+def _line(t, y, t_ref, both_sides):
+    """The least-squares line through the samples ``y`` at ``t`` [s] (both sides of the
+    contact), else their mean (one side: a slope would extrapolate across the pulse)."""
+    if not both_sides:
+        return Baseline(float(np.mean(y)), 0.0, float(t_ref))
+    # the least-squares line in closed form, about the samples' mean instant
+    tt = t - t_ref
+    t_mean, y_mean = tt.mean(), y.mean()
+    x = tt - t_mean
+    s = float(x @ (y - y_mean)) / float(x @ x)
+    return Baseline(float(y_mean - s * t_mean), s, float(t_ref))
+
+
+def _sides(mask, t, t0, t1):
+    """The samples of ``mask`` before ``t0`` and after ``t1`` [s]: (left, right)."""
+    return int(np.count_nonzero(mask & (t < t0))), int(np.count_nonzero(mask & (t > t1)))
 
 
 def _ends(t, r, a, b):
@@ -721,10 +799,10 @@ def _ends(t, r, a, b):
     return float(t0), float(t1)
 
 
-def _repair_spikes(record, false_alarm):
+def _repair_spikes(record, t, false_alarm):
     """(the record with every channel's spikes repaired, the spikes) — the record itself
-    where there are none (:func:`find_spikes`; uniformly sampled channels only)."""
-    t = times(record)
+    where there are none (:func:`find_spikes`; uniformly sampled channels only; ``t``: the
+    record's instants [s])."""
     dt = np.diff(t)
     if t.size < 20 or np.ptp(dt) > 1e-6 * np.mean(dt):
         return record, ()
@@ -753,8 +831,8 @@ def _repair_spikes(record, false_alarm):
 def _sensor(record, *, k, false_alarm, guard, max_iter):
     src = record.attrs.get("source")
     raw_fn = record.variables["Fn"].values
-    record, spikes = _repair_spikes(record, false_alarm)
     t = times(record)
+    record, spikes = _repair_spikes(record, t, false_alarm)
     y = record.variables["Fn"].values
     n = t.size
     if n < 20:
@@ -769,7 +847,7 @@ def _sensor(record, *, k, false_alarm, guard, max_iter):
     found = None
     sigma = np.nan
     for _ in range(max_iter):
-        r = y - base(t)
+        r, r_base, r_outside = y - base(t), base, outside
         sigma = _sigma(r[outside], y)
         runs = _runs(r, sigma, kk)
         new = _choose(runs, r, sigma, kk, src)
@@ -789,8 +867,7 @@ def _sensor(record, *, k, false_alarm, guard, max_iter):
         if new.ringing:  # the sensor's ring, and a lobe's length beyond its last
             first, last = new.ringing[0], new.ringing[-1]
             new_outside[first.a : last.b + last.size + 1] = False
-        left = int(np.count_nonzero(new_outside & (t < t0)))
-        right = int(np.count_nonzero(new_outside & (t > t1)))
+        left, right = _sides(new_outside, t, t0, t1)
         if left + right < 8:
             _check_truncated(new, t, r, sigma, src)
             raise InputError(
@@ -800,18 +877,16 @@ def _sensor(record, *, k, false_alarm, guard, max_iter):
                 "offset, mark it kind='digitised'",
                 path=src,
             )
-        both = (
-            np.count_nonzero(new_outside & (t < t0)) >= 4
-            and np.count_nonzero(new_outside & (t > t1)) >= 4
-        )
-        base = _fit_line(t, y, new_outside, t_ref, both)
+        base = _fit_line(t, y, new_outside, t_ref, left >= 4 and right >= 4)
         converged = found is not None and found.key == new.key
         converged = converged and np.array_equal(new_outside, outside)
         found, outside = new, new_outside
         if converged:
             break
-    r = y - base(t)
-    if found is not None:
+    # the last detection's residuals and noise hold unless the line or its samples changed
+    if base != r_base:
+        r = y - base(t)
+    if found is not None and (base != r_base or not np.array_equal(outside, r_outside)):
         sigma = _sigma(r[outside], y)
     fn_spikes = [sp for sp in spikes if sp.channel == "Fn"]
     if found is None and fn_spikes:
@@ -835,7 +910,7 @@ def _sensor(record, *, k, false_alarm, guard, max_iter):
         )
     _check_truncated(found, t, r, sigma, src)
     t0, t1 = _ends(t, r, found.a, found.b)
-    _check_clipping(record, found, outside, src)
+    _check_clipping(record, t, found, outside, src)
     # spikes worth a word: well above the threshold, and away from the pulse's edges
     # (where the noise of a short record's σ estimate crosses k·σ now and then)
     margin = guard * (t1 - t0)
@@ -844,24 +919,32 @@ def _sensor(record, *, k, false_alarm, guard, max_iter):
         return abs(value) > 2 * kk * sigma and not t0 - margin <= t[i] <= t1 + margin
 
     # the repaired single samples of Fn away from the pulse are the trigger glitches of old
-    r_raw = raw_fn - base(t)
+    r_raw = raw_fn - base(t) if fn_spikes else r
     lone = [sp for sp in fn_spikes if glitch(sp.index, r_raw[sp.index])]
     runs = [g for g in found.glitches if glitch(g.peak, r[g.peak])]
     runs += [_Run(sp.index, sp.index, int(np.sign(r_raw[sp.index])), sp.index, 1) for sp in lone]
     found = dataclasses.replace(found, glitches=tuple(sorted(runs, key=lambda g: g.a)))
     _report_events(found, t, r_raw, src)
     _report_spikes([sp for sp in spikes if sp not in lone], src)
-    both = np.count_nonzero(outside & (t < t0)) >= 4 and np.count_nonzero(outside & (t > t1)) >= 4
-    noise, baseline = {}, {}
+    left, right = _sides(outside, t, t0, t1)
+    t_out = t[outside]
+    noise, baseline = {"Fn": sigma}, {"Fn": base}  # Fn's: the detection's own
     for c in _channels(record):
-        yc = record.variables[c].values
-        bc = base if c == "Fn" else _fit_line(t, yc, outside, t_ref, both)
-        baseline[c] = bc
-        noise[c] = _sigma((yc - bc(t))[outside], yc)
+        if c != "Fn":
+            yc = record.variables[c].values
+            baseline[c] = bc = _line(t_out, yc[outside], t_ref, left >= 4 and right >= 4)
+            noise[c] = _sigma(yc[outside] - bc(t_out), yc)
     peak = float(np.max(r[found.a : found.b + 1]))
-    win = _finish(record, t0, t1, "sensor", noise, baseline, kk, peak)
-    return dataclasses.replace(
-        win,
+    return _finish(
+        record,
+        t,
+        t0,
+        t1,
+        "sensor",
+        noise,
+        baseline,
+        kk,
+        peak,
         other_pulses=tuple((float(t[o.a]), float(t[o.b]), float(r[o.peak])) for o in found.others),
         glitches=tuple((float(t[g.peak]), float(r_raw[g.peak])) for g in found.glitches),
         spikes=spikes,
@@ -984,11 +1067,13 @@ def _runs(r, sigma, kk) -> list[_Run]:
         above = s > sigma
         edges = np.flatnonzero(np.diff(np.concatenate([[0], above.astype(np.int8), [0]])))
         starts, stops = edges[::2], edges[1::2] - 1
-        which = np.searchsorted(stops, core)  # the stretch holding each core sample
-        for j in np.unique(which):
+        which = np.searchsorted(stops, core)  # the stretch holding each core sample, ascending
+        first = np.flatnonzero(np.diff(which, prepend=-1))  # each stretch's first core sample
+        cores = np.diff(first, append=core.size)
+        for j, n_core in zip(which[first].tolist(), cores.tolist(), strict=True):
             a, b = int(starts[j]), int(stops[j])
             pk = a + int(np.argmax(s[a : b + 1]))
-            runs.append(_Run(a, b, sign, pk, int(np.count_nonzero(which == j))))
+            runs.append(_Run(a, b, sign, pk, n_core))
     return sorted(runs, key=lambda run: run.a)
 
 
@@ -1131,21 +1216,20 @@ def _check_truncated(found, t, r, sigma, src):
         )
 
 
-def _check_clipping(record, found, outside, src):
+def _check_clipping(record, t, found, outside, src):
     """ClippedSignalError when Fn or Ft sits at its extreme over a flat run in the pulse."""
-    t = times(record)
     for c in ("Fn", "Ft"):
         if c not in record:
             continue
         raw = record.variables[c].values
         seg = raw[found.a : found.b + 1]
-        base = raw[outside]
-        # the rate of equal neighbours in the baseline: how often the noise repeats a value
-        rep = (np.count_nonzero(np.diff(base) == 0) + 1) / max(base.size, 2)
         for value in (seg.max(), seg.min()):
             at = np.flatnonzero(seg == value)
             if at.size < 3:
                 continue
+            base = raw[outside]
+            # the rate of equal neighbours in the baseline: how often the noise repeats a value
+            rep = (np.count_nonzero(np.diff(base) == 0) + 1) / max(base.size, 2)
             # the longest stretch of consecutive samples at that value
             breaks = np.flatnonzero(np.diff(at) > 1)
             lengths = np.diff(np.concatenate([[-1], breaks, [at.size - 1]]))
