@@ -154,6 +154,15 @@ def _median(a):
     return p[h] if n % 2 else (p[h - 1] + p[h]) / 2
 
 
+def _row_medians(a):
+    """:func:`_median` of each row of the 2-D array ``a`` (rows of at least one value)."""
+    n = a.shape[1]
+    h = n // 2
+    p = np.partition(a, [h, n - 1] if n % 2 else [h - 1, h, n - 1], axis=1)
+    mid = p[:, h] if n % 2 else (p[:, h - 1] + p[:, h]) / 2
+    return np.where(np.isnan(p[:, -1]), p[:, -1], mid)
+
+
 def mad_sigma(r) -> float:
     """Robust noise level: 1.4826·median|r − median r| [same unit as ``r``]."""
     r = np.asarray(r, dtype=float)
@@ -252,14 +261,14 @@ def _spike_stats(y, k):
     return d, np.maximum(rss, 0.0) / 3.0
 
 
-def _spike_residuals(y):
-    """d of :func:`_spike_stats` at every interior sample 3 … n − 4 (the misfit, which only
-    the few candidates need, left out)."""
-    m = y.size - 6
-    nb = np.empty((m, _SPIKE_OFFSETS.size))
+def _spike_residuals(Y):
+    """d of :func:`_spike_stats` at every interior sample 3 … n − 4 of each row of ``Y``
+    (the misfit, which only the few candidates need, left out)."""
+    c, n = Y.shape
+    nb = np.empty((c, n - 6, _SPIKE_OFFSETS.size))
     for j, offset in enumerate(_SPIKE_OFFSETS):
-        nb[:, j] = y[3 + offset : 3 + offset + m]
-    return y[3:-3] - nb @ _SPIKE_WEIGHTS
+        nb[:, :, j] = Y[:, 3 + offset : n - 3 + offset]
+    return Y[:, 3:-3] - nb @ _SPIKE_WEIGHTS
 
 
 def _spike_at(y, i, n, kk, sd, sigma):
@@ -318,27 +327,48 @@ def find_spikes(y, *, k: float | None = None, false_alarm: float = 1e-3, sigma=N
     (indices, repaired) : numpy.ndarray of int, numpy.ndarray of float — the spikes'
     indices (ascending) and the values their neighbours' quadratic gives there [N]
     """
-    y = np.array(y, dtype=float, copy=True)
-    n = y.size
-    if n < 7:
+    y = np.array(y, dtype=float, copy=True).reshape(1, -1)
+    if y.size < 7:
         return np.zeros(0, int), np.zeros(0)
-    d = _spike_residuals(y)  # at samples 3 … n − 4
+    kk = default_threshold(y.size, false_alarm) if k is None else float(k)
+    return _find_spikes(y, kk, sigma)[0]
+
+
+def _find_spikes(Y, kk, sigma=None):
+    """:func:`find_spikes` of each row of ``Y`` (channels of n ≥ 7 samples on one clock,
+    repaired in place) at the threshold ``kk`` [-]: [(indices, repaired), ...]. The
+    residuals and their noise are measured for all the rows at once."""
+    D = _spike_residuals(Y)  # at samples 3 … n − 4
     if sigma is None:
-        sigma = mad_sigma(d) / math.sqrt(1.5)
-        if not sigma > 0:
-            sigma = float(np.std(d)) / math.sqrt(1.5)
-    sigma = max(float(sigma), _RESOLUTION_FLOOR * float(np.ptp(y)))
+        sigmas = _MAD_TO_SIGMA * _row_medians(np.abs(D - _row_medians(D)[:, None]))
+        sigmas = sigmas / math.sqrt(1.5)
+    else:
+        sigmas = np.full(Y.shape[0], float(sigma))
+    spans = np.ptp(Y, axis=1)
+    # the smallest step between distinct neighbours (∞ where all are equal)
+    steps = np.abs(np.diff(Y, axis=1))
+    smallest = np.min(np.where(steps > 0, steps, np.inf), axis=1)
+    return [
+        _spikes_of(y, d, float(s), float(span), float(step), kk)
+        for y, d, s, span, step in zip(Y, D, sigmas, spans, smallest, strict=True)
+    ]
+
+
+def _spikes_of(y, d, sigma, span, step, kk):
+    """The spikes of one channel ``y`` (repaired in place) from its residuals ``d``, the noise
+    σ [N] they show, its range and its smallest step [N] (:func:`_find_spikes`)."""
+    if not sigma > 0:
+        sigma = float(np.std(d)) / math.sqrt(1.5)
+    sigma = max(sigma, _RESOLUTION_FLOOR * span)
     # the converter's rounding noise q/√12 where it is larger: q divides every gap between
     # distinct values, so no step between neighbours below √12·σ leaves the grid's search
     # (a sort of the record) anything to find
-    steps = np.abs(np.diff(y))
-    steps = steps[steps > 0]
-    if steps.size and float(steps.min()) > math.sqrt(12) * sigma:
+    if math.isfinite(step) and step > math.sqrt(12) * sigma:
         sigma = max(sigma, adc_step(y) / math.sqrt(12))
     if not sigma > 0:
         return np.zeros(0, int), np.zeros(0)
+    n = y.size
     sd = sigma * math.sqrt(1.5)
-    kk = default_threshold(n, false_alarm) if k is None else float(k)
     found, values = [], []
     candidates = np.flatnonzero(np.abs(d) > kk * sd)
     candidates = (3 + candidates[np.argsort(-np.abs(d[candidates]), kind="stable")]).tolist()
@@ -807,11 +837,12 @@ def _repair_spikes(record, t, false_alarm):
     if t.size < 20 or np.ptp(dt) > 1e-6 * np.mean(dt):
         return record, ()
     found, new = [], {}
-    for c in _channels(record):
-        tc, yc = channel(record, c)
-        if tc.size != t.size:
-            continue
-        idx, rep = find_spikes(yc, false_alarm=false_alarm)
+    chans = {c: yc for c in _channels(record) if (yc := channel(record, c)[1]).size == t.size}
+    if not chans:
+        return record, ()
+    Y = np.array(list(chans.values()), dtype=float)
+    spikes = _find_spikes(Y, default_threshold(t.size, false_alarm))
+    for (c, yc), (idx, rep) in zip(chans.items(), spikes, strict=True):
         if idx.size:
             fixed = yc.copy()
             fixed[idx] = rep

@@ -577,10 +577,14 @@ def prepare(
 
 
 def baseline_basis(t) -> np.ndarray:
-    """Orthonormal basis (n, 2) of {1, t − t̄} at the instants ``t`` [s]: a channel's residual
-    baseline, fitted with the contact (module notes)."""
-    A = np.column_stack([np.ones(t.size), (t - t.mean()) / max(np.ptp(t), 1e-300)])
-    return np.linalg.qr(A)[0]
+    """Orthonormal basis (n, 2) of {1, t − t̄} at the instants ``t`` [s] (two or more
+    distinct): a channel's residual baseline, fitted with the contact (module notes). The
+    two functions are orthogonal over the samples: each is normalised."""
+    x = t - t.mean()
+    basis = np.empty((t.size, 2))
+    basis[:, 0] = 1.0 / math.sqrt(t.size)
+    basis[:, 1] = x / math.sqrt(float(x @ x))
+    return basis
 
 
 def fine_grid(t, oversample: int) -> tuple:
@@ -600,9 +604,10 @@ def _before_contact(win, t, f, spikes=None):
         pre[spikes] = False
     if np.count_nonzero(pre) < 20:
         return None
-    tt, yy = t[pre], f[pre]
-    A = np.column_stack([np.ones(tt.size), tt - tt.mean()])
-    return yy - A @ np.linalg.lstsq(A, yy, rcond=None)[0]
+    # less the least-squares line in closed form, about the samples' mean instant
+    x = t[pre] - t[pre].mean()
+    r = f[pre] - f[pre].mean()
+    return r - (float(x @ r) / float(x @ x)) * x
 
 
 def zero_shift(t, at, width):

@@ -96,11 +96,12 @@ WHITE = NoiseModel(np.zeros(0))
 
 
 def _acf(x, max_lag):
+    """Autocorrelations of ``x`` at lags 0 … ``max_lag`` (< its size), the biased estimate;
+    None where ``x`` is constant."""
     x = np.asarray(x, dtype=float) - np.mean(x)
     n = x.size
-    f = np.fft.rfft(x, 2 * n)
-    ac = np.fft.irfft(f * np.conj(f))[: max_lag + 1] / n
-    return ac / ac[0] if ac[0] > 0 else np.zeros(max_lag + 1)
+    ac = np.array([x[: n - k] @ x[k:] for k in range(max_lag + 1)]) / n
+    return ac / ac[0] if ac[0] > 0 else None
 
 
 def _levinson(rho, p_max):
@@ -126,10 +127,10 @@ def measure_noise(x) -> NoiseModel:
     significant correlation."""
     x = np.asarray(x, dtype=float)
     n = x.size
-    if n < MIN_SAMPLES or not np.std(x) > 0:
-        return NoiseModel(np.zeros(0), n=n)
     lags = min(LB_LAGS, n // 4)
-    rho = _acf(x, max(lags, P_MAX))
+    rho = _acf(x, max(lags, P_MAX)) if n >= MIN_SAMPLES else None
+    if rho is None:
+        return NoiseModel(np.zeros(0), n=n)
     q = n * (n + 2) * float(np.sum(rho[1 : lags + 1] ** 2 / (n - np.arange(1, lags + 1))))
     p_value = float(special.chdtrc(lags, q))
     if p_value >= LB_ALPHA:
