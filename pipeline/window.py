@@ -875,11 +875,12 @@ def _sensor(record, *, k, false_alarm, guard, max_iter):
     kk = default_threshold(n, false_alarm) if k is None else float(k)
     t_ref = 0.5 * (t[0] + t[-1])
     base, outside = _initial_baseline(t, y, t_ref)
-    found = None
+    span = float(np.ptp(y))
+    found, line_both = None, None  # line_both: the line was fitted on both sides
     sigma = np.nan
     for _ in range(max_iter):
         r, r_base, r_outside = y - base(t), base, outside
-        sigma = _sigma(r[outside], y)
+        sigma = _sigma(r[outside], y, span)
         runs = _runs(r, sigma, kk)
         new = _choose(runs, r, sigma, kk, src)
         if new is None:
@@ -908,9 +909,11 @@ def _sensor(record, *, k, false_alarm, guard, max_iter):
                 "offset, mark it kind='digitised'",
                 path=src,
             )
-        base = _fit_line(t, y, new_outside, t_ref, left >= 4 and right >= 4)
+        both = left >= 4 and right >= 4
         converged = found is not None and found.key == new.key
         converged = converged and np.array_equal(new_outside, outside)
+        if not (converged and both == line_both):  # else the same samples give the same line
+            base, line_both = _fit_line(t, y, new_outside, t_ref, both), both
         found, outside = new, new_outside
         if converged:
             break
@@ -918,7 +921,7 @@ def _sensor(record, *, k, false_alarm, guard, max_iter):
     if base != r_base:
         r = y - base(t)
     if found is not None and (base != r_base or not np.array_equal(outside, r_outside)):
-        sigma = _sigma(r[outside], y)
+        sigma = _sigma(r[outside], y, span)
     fn_spikes = [sp for sp in spikes if sp.channel == "Fn"]
     if found is None and fn_spikes:
         worst = max(fn_spikes, key=lambda sp: abs(sp.value - base(sp.t)))
@@ -1036,16 +1039,17 @@ class _Found:
 _RESOLUTION_FLOOR = 1e-6
 
 
-def _sigma(r, y) -> float:
+def _sigma(r, y, span=None) -> float:
     """Noise level of the baseline residuals ``r`` of a channel whose samples are ``y``: the
     MAD estimate; the standard deviation where the MAD is 0 (quantised, nearly noise-free);
     where both are 0 (a noise-free baseline on one ADC level) the converter's rounding
     noise q/√12, q the grid step of the whole channel (:func:`pipeline.record.adc_step`);
-    never below :data:`_RESOLUTION_FLOOR` of the channel's range."""
+    never below :data:`_RESOLUTION_FLOOR` of the channel's range (``span`` [N], where
+    known)."""
     sigma = mad_sigma(r) or float(np.std(r))
     if sigma == 0.0:
         sigma = adc_step(y) / math.sqrt(12.0)
-    return max(sigma, _RESOLUTION_FLOOR * float(np.ptp(y)))
+    return max(sigma, _RESOLUTION_FLOOR * (float(np.ptp(y)) if span is None else span))
 
 
 def _initial_baseline(t, y, t_ref):
@@ -1062,18 +1066,19 @@ def _initial_baseline(t, y, t_ref):
     ta, ya = _median(t[:m]), _median(y[:m])
     tb, yb = _median(t[-m:]), _median(y[-m:])
     slope = (yb - ya) / (tb - ta)
-    first, last, both = (np.zeros(n, dtype=bool) for _ in range(3))
-    first[:m] = last[-m:] = True
-    both[:m] = both[-m:] = True
-    candidates = [
-        (Baseline(float(ya + slope * (t_ref - ta)), float(slope), float(t_ref)), both),
-        (Baseline(float(ya), 0.0, float(t_ref)), first),
-        (Baseline(float(yb), 0.0, float(t_ref)), last),
+    candidates = [  # through both ends, the first, the last
+        Baseline(float(ya + slope * (t_ref - ta)), float(slope), float(t_ref)),
+        Baseline(float(ya), 0.0, float(t_ref)),
+        Baseline(float(yb), 0.0, float(t_ref)),
     ]
-    spread = [float(_median(np.abs(y - base(t)))) for base, _ in candidates]
+    spread = [float(_median(np.abs(y - base(t)))) for base in candidates]
+    best = int(np.argmin(spread))
     # the first noise estimate uses the chosen end samples: a pulse that fills most of a
     # short record would otherwise inflate the MAD past the pulse itself
-    return candidates[int(np.argmin(spread))]
+    rests = np.zeros(n, dtype=bool)
+    rests[:m] = best != 2
+    rests[-m:] = best != 1
+    return candidates[best], rests
 
 
 def _in_sigma(x, sigma) -> str:
@@ -1089,22 +1094,22 @@ def _runs(r, sigma, kk) -> list[_Run]:
     if not sigma >= 0:
         return []
     runs = []
+    above = np.zeros(r.size + 2, dtype=bool)  # a sample below σ on either side
     for sign in (1, -1):
         s = sign * r
-        core = np.flatnonzero(s > kk * sigma)
-        if core.size == 0:
+        hot = s > kk * sigma
+        if not hot.any():
             continue
         # widen each core sample to its run above σ: runs are the maximal stretches above σ
-        above = s > sigma
-        edges = np.flatnonzero(np.diff(np.concatenate([[0], above.astype(np.int8), [0]])))
+        above[1:-1] = s > sigma
+        edges = np.flatnonzero(above[1:] != above[:-1])
         starts, stops = edges[::2], edges[1::2] - 1
-        which = np.searchsorted(stops, core)  # the stretch holding each core sample, ascending
-        first = np.flatnonzero(np.diff(which, prepend=-1))  # each stretch's first core sample
-        cores = np.diff(first, append=core.size)
-        for j, n_core in zip(which[first].tolist(), cores.tolist(), strict=True):
+        n_hot = np.cumsum(hot)  # core samples up to each sample
+        cores = n_hot[stops] - n_hot[starts] + hot[starts]  # core samples of each stretch
+        for j in np.flatnonzero(cores).tolist():
             a, b = int(starts[j]), int(stops[j])
             pk = a + int(np.argmax(s[a : b + 1]))
-            runs.append(_Run(a, b, sign, pk, n_core))
+            runs.append(_Run(a, b, sign, pk, int(cores[j])))
     return sorted(runs, key=lambda run: run.a)
 
 

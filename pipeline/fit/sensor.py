@@ -423,7 +423,8 @@ def sensor_spec(record, sensor=None) -> SensorSpec:
         )
     else:
         attrs = record.attrs
-        fields = _from_metadata(attrs)
+        # the metadata (meta_*) alone: a record carries scores of other attributes
+        fields = _from_metadata({k: v for k, v in attrs.items() if str(k).startswith("meta_")})
         stated = {k.removeprefix("sensor_"): v for k, v in attrs.items() if k.startswith("sensor_")}
         keep = (
             "bandwidth",
