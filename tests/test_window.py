@@ -8,9 +8,12 @@ offset, drift, white noise and pre-/post-trigger samples added here with numpy.
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pytest
 import xarray as xr
+import scipy.stats
 from scipy import integrate
 
 from pipeline.contact import hertz_impact, hertz_pulse
@@ -20,6 +23,7 @@ from pipeline.errors import (
     MultipleImpactWarning,
     NoPulseError,
     SignFlipError,
+    SpikeWarning,
     TriggerGlitchWarning,
     TruncatedPulseError,
 )
@@ -476,3 +480,168 @@ def test_a_noise_free_sensor_record_finds_its_contact():
     dt = 0.5e-6  # the default 2 MHz
     assert w.t_start == pytest.approx(0.0, abs=2 * dt)
     assert w.t_end == pytest.approx(ideal.attrs["t_contact"], abs=4 * dt)
+
+
+# ------------------------------------------------- the window against a slow reference
+# The search shares its work (one spike scan for every channel, σ and lines reused where
+# their samples did not change, the record cut only when read). Whatever it found, the
+# window must be the fixed point of its own steps recomputed the plain way: each
+# quadratic by numpy.polyfit, each median by numpy.median, each line by least squares,
+# the run above σ sample by sample (the module notes give the steps).
+def _neighbours_quadratic(y, i):
+    """The least-squares quadratic through the six neighbours of sample ``i`` (offsets
+    ±1…±3), at ``i``: what a spike there is repaired to."""
+    off = np.array([-3, -2, -1, 1, 2, 3])
+    return np.polyval(np.polyfit(off, y[i + off], 2), 0.0)
+
+
+def _slow_mad_sigma(r):
+    """σ of Gaussian noise from its median absolute deviation: MAD/Φ⁻¹(3/4) (Hampel 1974)."""
+    return np.median(np.abs(r - np.median(r))) / scipy.stats.norm.ppf(0.75)
+
+
+def _slow_window(t, fn, w, guard=0.25):
+    """(outside samples, Fn less its line, σ, run ends) recomputed from the window's ends."""
+    dur = w.t_end - w.t_start
+    g_left = min(guard * dur, 0.5 * (w.t_start - t[0]))
+    g_right = min(guard * dur, 0.5 * (t[-1] - w.t_end))
+    out = (t < w.t_start - g_left) | (t > w.t_end + g_right)
+    return out, g_left, g_right
+
+
+def _slow_line(t, y, out, w, t_ref):
+    both = np.sum(out & (t < w.t_start)) >= 4 and np.sum(out & (t > w.t_end)) >= 4
+    if both:
+        slope, offset = np.polyfit(t[out] - t_ref, y[out], 1)
+        return lambda tt: offset + slope * (tt - t_ref)
+    return lambda tt: np.mean(y[out]) + 0.0 * tt
+
+
+def _slow_ends(t, r, sigma):
+    """The stretch where r > σ around the largest r, and its ends (module notes, step 4)."""
+    a = b = int(np.argmax(r))
+    while a > 0 and r[a - 1] > sigma:
+        a -= 1
+    while b < r.size - 1 and r[b + 1] > sigma:
+        b += 1
+    t0 = t[a - 1] - r[a - 1] * (t[a] - t[a - 1]) / (r[a] - r[a - 1]) if r[a - 1] <= 0 else t[a - 1]
+    t1 = t[b + 1] - r[b + 1] * (t[b] - t[b + 1]) / (r[b] - r[b + 1]) if r[b + 1] <= 0 else t[b + 1]
+    return t0, t1
+
+
+def _awkward(case):
+    """A record that breaks an assumption, and the samples of Fn and Ft spiked in it."""
+    rec = sensor_record(seed=21)
+    t = rec["time"].values
+    fn, ft = rec["Fn"].values.copy(), rec["Ft"].values.copy()
+    spiked = {"Fn": [], "Ft": []}
+    if case == "edge_spikes":  # on the first and last samples the scan judges, and mid-pulse
+        for i, s in ((3, 60.0), (t.size - 4, -70.0), (_index(rec, T0 + 30e-6), 400.0)):
+            fn[i] += s
+            spiked["Fn"].append(i)
+        ft[3] += 50.0
+        spiked["Ft"].append(3)
+    elif case == "zero_shift":  # the sensor's zero steps by 25 N after the pulse
+        fn[t > T0 + IMPACT.t_c + 200e-6] += 25.0
+    elif case == "drift":  # a curved drift on top of the linear one: 20 N over the record
+        fn += 20.0 * (t / t[-1]) ** 2
+    elif case == "no_pre_trigger":  # three samples before the pulse: a line on one side only
+        keep = t >= T0 - 3.0 / FS
+        t, fn, ft = t[keep], fn[keep], ft[keep]
+    return make_record(
+        t, {"Fn": fn, "Ft": ft}, attrs={"source": case, "format": "test", "kind": "sensor"}
+    ), spiked
+
+
+@pytest.mark.parametrize("case", ["edge_spikes", "zero_shift", "drift", "no_pre_trigger"])
+def test_the_window_is_the_fixed_point_of_its_steps_done_the_slow_way(case):
+    rec, spiked = _awkward(case)
+    raw = rec.copy(deep=True)
+    with warnings.catch_warnings():  # the spikes, repaired, are said to be
+        warnings.simplefilter("ignore", SpikeWarning)
+        warnings.simplefilter("ignore", TriggerGlitchWarning)
+        w = find_contact(rec)
+    t = rec["time"].values
+    tol = 2.0 * end_tolerance(SIGMA_N)  # the truth, for the records that keep both sides
+    assert abs(w.t_start - T0) < tol and abs(w.t_end - (T0 + IMPACT.t_c)) < tol
+    # the spikes planted, no others, each repaired to its neighbours' quadratic
+    assert w.spike_indices() == {c: sorted(i) for c, i in spiked.items() if i}
+    fixed = {}
+    for c in ("Fn", "Ft"):
+        y = rec[c].values.copy()
+        for sp in (sp for sp in w.spikes if sp.channel == c):
+            assert sp.repaired == pytest.approx(
+                _neighbours_quadratic(y, sp.index), abs=1e-9 * np.ptp(y)
+            )
+            y[sp.index] = sp.repaired
+        fixed[c] = y
+    # lines, σ and ends from the window's own outside samples
+    out, _, _ = _slow_window(t, fixed["Fn"], w)
+    t_ref = 0.5 * (t[0] + t[-1])
+    lines = {c: _slow_line(t, fixed[c], out, w, t_ref) for c in fixed}
+    for c, y in fixed.items():
+        r = y - lines[c](t)
+        scale = np.ptp(y)
+        assert w.baseline[c](t) == pytest.approx(lines[c](t), abs=1e-9 * scale)
+        sigma = max(_slow_mad_sigma(r[out]), 1e-6 * scale)
+        assert w.noise[c] == pytest.approx(sigma, rel=1e-9)
+    r = fixed["Fn"] - lines["Fn"](t)
+    t0, t1 = _slow_ends(t, r, w.noise["Fn"])
+    assert (w.t_start, w.t_end) == pytest.approx((t0, t1), abs=1e-9 / FS)
+    inside = (t >= w.t_start) & (t <= w.t_end)
+    assert w.n_samples == np.count_nonzero(inside)
+    assert w.peak == pytest.approx(np.max(r[inside]), abs=1e-9 * np.ptp(r))
+    # the record, cut when read: the repaired samples less their lines
+    assert w.record.sizes["time"] == w.n_samples
+    for c, y in fixed.items():
+        np.testing.assert_allclose(
+            w.record[c].values, (y - lines[c](t))[inside], rtol=0, atol=1e-9 * np.ptp(y)
+        )
+    xr.testing.assert_identical(rec, raw)
+
+
+def test_the_runs_above_the_noise_are_those_a_loop_over_the_samples_finds():
+    """_runs (vectorised) against a walk through the samples: each stretch beyond ±σ of one
+    sign that holds a sample beyond ±k·σ, its largest sample and its count above k·σ."""
+    from pipeline.window import _runs
+
+    def slow(r, sigma, k):
+        found = []
+        for sign in (1, -1):
+            s = sign * r
+            i = 0
+            while i < s.size:
+                if s[i] > sigma:
+                    j = i
+                    while j + 1 < s.size and s[j + 1] > sigma:
+                        j += 1
+                    core = int(np.sum(s[i : j + 1] > k * sigma))
+                    if core:
+                        found.append((i, j, sign, i + int(np.argmax(s[i : j + 1])), core))
+                    i = j + 1
+                else:
+                    i += 1
+        return sorted(found)
+
+    rng = np.random.default_rng(3)
+    for _ in range(300):
+        r = rng.normal(size=200)
+        r[rng.integers(0, 200, 6)] += rng.choice([-9.0, 9.0], 6)  # spikes, at the ends too
+        r[:2] += rng.choice([0.0, 7.0])
+        r[80:120] += rng.choice([0.0, 12.0])  # a pulse
+        got = [(x.a, x.b, x.sign, x.peak, x.core) for x in _runs(r, 1.0, 4.0)]
+        assert got == slow(r, 1.0, 4.0)
+
+
+def test_a_window_copied_or_pickled_carries_its_cut_record():
+    import copy
+    import dataclasses
+    import pickle
+
+    rec = sensor_record(seed=5)
+    w = find_contact(rec)
+    for other in (pickle.loads(pickle.dumps(find_contact(rec))), copy.deepcopy(find_contact(rec))):
+        assert other == w
+        xr.testing.assert_identical(other.record, w.record)
+    assert dataclasses.replace(w, record=None).record is None
+    assert apply_window(rec, w).sizes["time"] == w.n_samples

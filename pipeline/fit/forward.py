@@ -604,10 +604,9 @@ def _before_contact(win, t, f, spikes=None):
         pre[spikes] = False
     if np.count_nonzero(pre) < 20:
         return None
-    # less the least-squares line in closed form, about the samples' mean instant
-    x = t[pre] - t[pre].mean()
-    r = f[pre] - f[pre].mean()
-    return r - (float(x @ r) / float(x @ x)) * x
+    tt, yy = t[pre], f[pre]
+    A = np.column_stack([np.ones(tt.size), tt - tt.mean()])
+    return yy - A @ np.linalg.lstsq(A, yy, rcond=None)[0]
 
 
 def zero_shift(t, at, width):
