@@ -12,8 +12,8 @@ import warnings
 
 import numpy as np
 import pytest
-import xarray as xr
 import scipy.stats
+import xarray as xr
 from scipy import integrate
 
 from pipeline.contact import hertz_impact, hertz_pulse
