@@ -1191,18 +1191,19 @@ def _shape_match(model, law, e, other, lam, shift, free_e) -> tuple[float, float
     table lookup); kept where they lower the misfit. A start, not a fit: the law's fit
     refines it."""
     n = model.n_steps
-    base = normal_pulse(law, e, n)
-    tc = float(base.tau_c[0])
-    tau = np.linspace(-0.25 * tc, 1.5 * tc, 2 * n + 1)
-    target = model._true_forces(Solution(base, None, np.zeros(1, int)), tau[None, :], False)[0][0]
+    tau, target = _shape_target(law, e, n)
     h = (-0.01 if e + 0.01 > 1.0 else 0.01) if free_e else 0.0
     sol = Solution(normal_pulse(other, [e, e + h], n), None, np.array([0, 1]))
 
-    def fitted(p):  # p = (e′ as a fraction of the step h, λ, c): the model and its Jacobian
-        t, lam_, c = p
+    def fitted(p, jacobian=True):  # p = (e′ as a fraction of the step h, λ, c): the model
+        t, lam_, c = p  # and its Jacobian
         arg = (tau - c) / lam_
-        f, _, g, _ = model._true_forces(sol, np.stack([arg, arg]), False, nderiv=2)
+        out = model._true_forces(sol, np.stack([arg, arg]), False, nderiv=2 if jacobian else 0)
+        f = out[0]
         m = (f[0] + t * (f[1] - f[0])) / lam_
+        if not jacobian:
+            return m, None
+        g = out[2]
         rate = (g[0] + t * (g[1] - g[0])) / lam_**2
         return m, np.stack([(f[1] - f[0]) / lam_, -m / lam_ - arg * rate, -rate])
 
@@ -1219,10 +1220,25 @@ def _shape_match(model, law, e, other, lam, shift, free_e) -> tuple[float, float
         p[0] = min(max(p[0], lo), hi)  # e′ in [E_MIN, 1]
         if not p[1] > 0:
             return e, lam, shift
-    r = target - fitted(p)[0]
+    r = target - fitted(p, jacobian=False)[0]
     if not float(r @ r) < chi2:
         p = start
     return e + p[0] * h, float(p[1]), float(p[2])
+
+
+@functools.lru_cache(maxsize=64)
+def _shape_target(law, e, n_steps) -> tuple[np.ndarray, np.ndarray]:
+    """(τ, f(τ; e)): ``law``'s dimensionless pulse at restitution ``e`` on the grid of
+    :func:`_shape_match`, 2·n_steps instants from a quarter contact before it to half a
+    contact after (kept: the verdict matches every other law to the same pulse)."""
+    base = normal_pulse(law, e, n_steps)
+    tc = float(base.tau_c[0])
+    tau = np.linspace(-0.25 * tc, 1.5 * tc, 2 * n_steps + 1)
+    sol = Solution(base, None, np.zeros(1, int))
+    target = ForwardModel(law, "none", "total", n_steps)._true_forces(sol, tau[None, :], False)
+    for a in (tau, target[0][0]):
+        a.flags.writeable = False
+    return tau, target[0][0]
 
 
 @functools.lru_cache(maxsize=1024)
