@@ -110,3 +110,66 @@ def test_point_fit_covariance_is_the_finite_difference_one(angle_deg, vary, trut
         j = fit.vary.index(name)
         z = (fit.theta[fit.names.index(name)] - truth[name]) / se[j]
         assert abs(z) < 4.0, (name, z)
+
+
+def _hermite(y, dy, step, k, th):
+    """The cubic Hermite interpolant on step k at θ ∈ [0, 1] and its rate d/dτ, in the basis
+    h00 = 2θ³ − 3θ² + 1, h10 = θ³ − 2θ² + θ, h01 = −2θ³ + 3θ², h11 = θ³ − θ² (Burden &
+    Faires, Numerical Analysis, §3.4)."""
+    y0, y1, d0, d1 = y[k], y[k + 1], dy[k], dy[k + 1]
+    value = (
+        (2 * th**3 - 3 * th**2 + 1) * y0
+        + (th**3 - 2 * th**2 + th) * step * d0
+        + (-2 * th**3 + 3 * th**2) * y1
+        + (th**3 - th**2) * step * d1
+    )
+    rate = (
+        (6 * th**2 - 6 * th) * y0 / step
+        + (3 * th**2 - 4 * th + 1) * d0
+        + (-6 * th**2 + 6 * th) * y1 / step
+        + (3 * th**2 - 2 * th) * d1
+    )
+    return value, rate
+
+
+def test_forces_between_the_nodes_are_the_hermite_cubic():
+    """The forward model's true forces and their rates between the pulse's nodes: the
+    cubic Hermite interpolant of the nodes' values and rates (basis written here), linear
+    on a step flagged as holding a stick/slide switch, zero out of contact (before the
+    onset, after τ_c); two pulses (e = 0.7, 0.95) on 16 steps, instants drawn at random in
+    each step. Tolerance: 1e-12 of the peak force (rounding)."""
+    from types import SimpleNamespace
+
+    from pipeline.fit.forward import ForwardModel, Solution
+    from pipeline.fit.pulse import normal_pulse
+
+    n = 16
+    pulse = normal_pulse("hunt_crossley", np.array([0.7, 0.95]), n)
+    rng = np.random.default_rng(3)
+    ft = rng.normal(size=pulse.f.shape)  # any node values and rates serve the interpolant
+    dft = rng.normal(size=pulse.f.shape)
+    kink = np.zeros(pulse.f.shape, dtype=bool)
+    kink[0, 5] = kink[1, 11] = True
+    sol = Solution(pulse, SimpleNamespace(ft=ft, dft=dft, kink=kink), np.array([0, 1]))
+    steps = np.repeat(np.arange(n), 3)
+    th = rng.uniform(size=(2, steps.size))
+    tau = (steps[None, :] + th) * (pulse.tau_c[:, None] / n)
+    before, after = np.full((2, 2), [-0.3, -1e-9]), pulse.tau_c[:, None] * [1.0 + 1e-9, 2.0]
+    tau = np.concatenate([before, tau, after], axis=1)
+    fn, ftt, rn, rt = ForwardModel("hunt_crossley", "mindlin")._true_forces(sol, tau, True, 2)
+    peak = float(pulse.f.max())
+    for c in range(2):
+        step = pulse.tau_c[c] / n
+        want_f, want_rf = _hermite(pulse.f[c], pulse.df[c], step, steps, th[c])
+        want_t, want_rt = _hermite(ft[c], dft[c], step, steps, th[c])
+        lin = kink[c, steps]
+        rise = ft[c, steps + 1] - ft[c, steps]
+        want_t = np.where(lin, ft[c, steps] + th[c] * rise, want_t)
+        want_rt = np.where(lin, rise / step, want_rt)
+        inner = slice(2, 2 + steps.size)
+        np.testing.assert_allclose(fn[c, inner], np.maximum(want_f, 0.0), atol=1e-12 * peak)
+        np.testing.assert_allclose(rn[c, inner], want_rf, atol=1e-12 * peak / step)
+        np.testing.assert_allclose(ftt[c, inner], want_t, atol=1e-12 * peak)
+        np.testing.assert_allclose(rt[c, inner], want_rt, atol=1e-12 * peak / step)
+        for arr in (fn, ftt, rn, rt):  # out of contact
+            assert np.all(arr[c, [0, 1, -2, -1]] == 0.0)
