@@ -138,17 +138,19 @@ _NORMAL = NormalDist()
 _MAD_TO_SIGMA = 1.0 / _NORMAL.inv_cdf(0.75)
 
 
-def _median(a):
+def _median(a, scratch=False):
     """:func:`numpy.median` of all the values of ``a`` (the same value, NaN if any is NaN) by
     one :func:`numpy.partition`, without its general-axis machinery (a few µs a call; the
-    window takes a score of medians)."""
+    window takes a score of medians). ``scratch``: ``a`` is a temporary array of floats,
+    reordered in place."""
     a = np.asarray(a, dtype=float).ravel()
     n = a.size
     if n == 0:
         return np.median(a)  # NaN, with numpy's warning
     h = n // 2
     # as numpy: the middle one or two order statistics, and the largest (a NaN sorts last)
-    p = np.partition(a, [h, n - 1] if n % 2 else [h - 1, h, n - 1])
+    p = a if scratch else a.copy()
+    p.partition([h, n - 1] if n % 2 else [h - 1, h, n - 1])
     if np.isnan(p[-1]):
         return p[-1]
     return p[h] if n % 2 else (p[h - 1] + p[h]) / 2
@@ -160,13 +162,14 @@ def _row_medians(a):
     h = n // 2
     p = np.partition(a, [h, n - 1] if n % 2 else [h - 1, h, n - 1], axis=1)
     mid = p[:, h] if n % 2 else (p[:, h - 1] + p[:, h]) / 2
-    return np.where(np.isnan(p[:, -1]), p[:, -1], mid)
+    nan = np.isnan(p[:, -1])
+    return np.where(nan, p[:, -1], mid) if nan.any() else mid
 
 
 def mad_sigma(r) -> float:
     """Robust noise level: 1.4826·median|r − median r| [same unit as ``r``]."""
     r = np.asarray(r, dtype=float)
-    return float(_MAD_TO_SIGMA * _median(np.abs(r - _median(r))))
+    return float(_MAD_TO_SIGMA * _median(np.abs(r - _median(r)), scratch=True))
 
 
 def default_threshold(n: int, false_alarm: float = 1e-3) -> float:
@@ -1071,7 +1074,7 @@ def _initial_baseline(t, y, t_ref):
         Baseline(float(ya), 0.0, float(t_ref)),
         Baseline(float(yb), 0.0, float(t_ref)),
     ]
-    spread = [float(_median(np.abs(y - base(t)))) for base in candidates]
+    spread = [float(_median(np.abs(y - base(t)), scratch=True)) for base in candidates]
     best = int(np.argmin(spread))
     # the first noise estimate uses the chosen end samples: a pulse that fills most of a
     # short record would otherwise inflate the MAD past the pulse itself

@@ -422,10 +422,13 @@ def sensor_spec(record, sensor=None) -> SensorSpec:
             f"got {type(sensor).__name__}"
         )
     else:
-        attrs = record.attrs
-        # the metadata (meta_*) alone: a record carries scores of other attributes
-        fields = _from_metadata({k: v for k, v in attrs.items() if str(k).startswith("meta_")})
-        stated = {k.removeprefix("sensor_"): v for k, v in attrs.items() if k.startswith("sensor_")}
+        meta, stated = {}, {}  # one pass: a record carries scores of other attributes
+        for k, v in record.attrs.items():
+            if str(k).startswith("meta_"):
+                meta[k] = v
+            elif k.startswith("sensor_"):
+                stated[k.removeprefix("sensor_")] = v
+        fields = _from_metadata(meta)
         keep = (
             "bandwidth",
             "filter_order",
@@ -443,7 +446,7 @@ def sensor_spec(record, sensor=None) -> SensorSpec:
         else:
             src = "the record's metadata"
         spec = _from_mapping(fields, src) if fields else SensorSpec()
-    if any(k.startswith("decouple") for k in record.attrs) and spec.crosstalk is not None:
+    if spec.crosstalk is not None and any(k.startswith("decouple") for k in record.attrs):
         # the loader already applied a decoupling matrix: nothing left to mix
         spec = dataclasses.replace(
             spec,
