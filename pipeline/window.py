@@ -450,7 +450,8 @@ class ContactWindow:
         Largest baseline-corrected Fn in the window [N].
     record : xarray.Dataset
         The baseline-corrected samples inside [t_start, t_end] (same layout as the input;
-        attrs ``window_t_start``, ``window_t_end`` [s], ``baseline_removed``).
+        attrs ``window_t_start``, ``window_t_end`` [s], ``baseline_removed``), cut from the
+        record by :func:`apply_window` when first read (a fit reads only the numbers above).
     other_pulses : tuple of (t_start [s], t_end [s], peak [N])
         Further impacts found after the contact (sensor records; see the module notes).
     glitches : tuple of (t [s], value [N])
