@@ -500,16 +500,17 @@ def _slow_mad_sigma(r):
     return np.median(np.abs(r - np.median(r))) / scipy.stats.norm.ppf(0.75)
 
 
-def _slow_window(t, fn, w, guard=0.25):
-    """(outside samples, Fn less its line, σ, run ends) recomputed from the window's ends."""
+def _slow_outside(t, w, guard=0.25):
+    """The samples the baseline rests on: outside the window widened by guard·duration on
+    each side, the margin shortened to half a short trigger span (module notes, step 5)."""
     dur = w.t_end - w.t_start
     g_left = min(guard * dur, 0.5 * (w.t_start - t[0]))
     g_right = min(guard * dur, 0.5 * (t[-1] - w.t_end))
-    out = (t < w.t_start - g_left) | (t > w.t_end + g_right)
-    return out, g_left, g_right
+    return (t < w.t_start - g_left) | (t > w.t_end + g_right)
 
 
 def _slow_line(t, y, out, w, t_ref):
+    """The least-squares line through the samples ``out`` (both sides), else their mean."""
     both = np.sum(out & (t < w.t_start)) >= 4 and np.sum(out & (t > w.t_end)) >= 4
     if both:
         slope, offset = np.polyfit(t[out] - t_ref, y[out], 1)
@@ -557,7 +558,7 @@ def _awkward(case):
 def test_the_window_is_the_fixed_point_of_its_steps_done_the_slow_way(case):
     rec, spiked = _awkward(case)
     raw = rec.copy(deep=True)
-    with warnings.catch_warnings():  # the spikes, repaired, are said to be
+    with warnings.catch_warnings():  # the spikes are reported; here they are checked
         warnings.simplefilter("ignore", SpikeWarning)
         warnings.simplefilter("ignore", TriggerGlitchWarning)
         w = find_contact(rec)
@@ -576,7 +577,7 @@ def test_the_window_is_the_fixed_point_of_its_steps_done_the_slow_way(case):
             y[sp.index] = sp.repaired
         fixed[c] = y
     # lines, σ and ends from the window's own outside samples
-    out, _, _ = _slow_window(t, fixed["Fn"], w)
+    out = _slow_outside(t, w)
     t_ref = 0.5 * (t[0] + t[-1])
     lines = {c: _slow_line(t, fixed[c], out, w, t_ref) for c in fixed}
     for c, y in fixed.items():
