@@ -112,6 +112,7 @@ from .window import ContactWindow
 
 __all__ = [
     "estimate_mu",
+    "mu_plateau",
     "Percussions",
     "CompressionSplit",
     "Resolution",
@@ -996,13 +997,18 @@ def estimate_mu(window, t_c: float, *, level: float = 0.3, band: float = 0.1) ->
     rec = window.record
     if "Ft" not in rec:
         return float("nan")
-    tn, fn = channel(rec, "Fn")
-    tt, ft = channel(rec, "Ft")
-    fn_at = np.interp(tt, tn, fn)
-    sel = (tt <= t_c) & (fn_at > level * np.max(fn))
+    return mu_plateau(*channel(rec, "Fn"), *channel(rec, "Ft"), t_c, level=level, band=band)
+
+
+def mu_plateau(t_n, f_n, t_t, f_t, t_c: float, *, level: float = 0.3, band: float = 0.1) -> float:
+    """:func:`estimate_mu` on a contact's samples already cut and less their baselines:
+    Fn at instants ``t_n`` [s], Ft at ``t_t`` [s] (forces [N]), maximum compression at
+    ``t_c`` [s]. NaN without a sample before ``t_c`` above ``level`` of Fn's peak."""
+    fn_at = f_n if t_n is t_t or np.array_equal(t_n, t_t) else np.interp(t_t, t_n, f_n)
+    sel = (t_t <= t_c) & (fn_at > level * np.max(f_n))
     if not sel.any():
         return float("nan")
-    r = ft[sel] / fn_at[sel]
+    r = f_t[sel] / fn_at[sel]
     top = float(np.quantile(r, 0.95))
     if top > 0:
         r = r[r >= (1.0 - band) * top]

@@ -71,7 +71,7 @@ from scipy import special
 from .._json import json_ready
 from ..contact import NORMAL_LAWS, calibrate_thornton, yield_pressure
 from ..errors import InputError, PipelineWarning, PoorFitWarning
-from ..percussion import estimate_mu
+from ..percussion import mu_plateau
 from ..precision import bound, model_words, reading
 from ..scene import Scene
 from ..simulate.curved import geometry_error
@@ -637,8 +637,16 @@ def _start(data: RecordData, model: ForwardModel, speed: float) -> dict:
 
 
 def _mu_start(data, t_peak):
-    """μ from the upper plateau of Ft/Fn before the peak (pipeline.percussion.estimate_mu)."""
-    m = estimate_mu(data.window, t_peak)
+    """μ from the upper plateau of Ft/Fn before the peak (pipeline.percussion.estimate_mu)
+    of the fitted samples inside the window: the record's less their baselines, as the
+    window's record holds them, without cutting that record (spikes left out, not
+    repaired)."""
+    ch = {c.name: c for c in data.channels}
+    m = math.nan
+    if "Fn" in ch and "Ft" in ch:
+        w = data.window
+        inside = [(c.t, c.y, (c.t >= w.t_start) & (c.t <= w.t_end)) for c in (ch["Fn"], ch["Ft"])]
+        m = mu_plateau(*(a[k] for t, y, k in inside for a in (t, y)), t_peak)
     C = data.sensor.crosstalk
     if C is not None and np.isfinite(m):
         # the measured ratio is (C10 + C11·μ)/(C00 + C01·μ): undo the sensor's mixing
