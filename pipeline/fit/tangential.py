@@ -64,6 +64,7 @@ TANGENTIAL_MODELS = ("none", "coulomb", "mindlin")
 HISTORY_RULES = ("total", "incremental")
 
 _G1, _G2 = 0.5 - np.sqrt(3.0) / 6.0, 0.5 + np.sqrt(3.0) / 6.0  # Gauss–Legendre points
+_G12 = np.array([_G1, _G2])
 _MAGNUS_C = np.sqrt(3.0) / 12.0
 _MAX_SEGMENTS = 64
 
@@ -105,28 +106,32 @@ class _Pulse:
     """
 
     def __init__(self, pulse: NormalPulse):
-        self.x, self.u, self.f, self.df = pulse.x, pulse.u, pulse.f, pulse.df
+        x, u, f = pulse.x, pulse.u, pulse.f
+        self.x, self.u, self.f, self.df = x, u, f, pulse.df
         self.qg = np.sqrt(pulse.xg)  # (M, 2, n): √x at each step's Gauss points
         self.n = pulse.n_steps
         self.h = pulse.tau_c / self.n  # (M,)
         self.tau_c = pulse.tau_c
-        self.q = np.sqrt(self.x)
-        self.pn = 1.0 - self.u
-        pos = self.x > 0
-        # q' = u/(2√x), 0 where x = 0 (the total rule's d(spring force)/dτ)
-        self.qd = np.where(self.q > 0, self.u / (2.0 * np.where(self.q > 0, self.q, 1.0)), 0.0)
-        self.x2 = 2 * np.where(pos, self.x, 1.0)  # 2x, 1 where x = 0 (a safe divisor)
-        self.pos = pos
-        self.inner = pos.copy()  # x > 0 before the last node (where a slide may end)
-        self.inner[:, -1] = False
+        self.node = np.arange(self.n + 1)[None, :]
+        self.tau = self.h[:, None] * self.node  # the nodes' τ (M, n + 1)
+        self.q = np.sqrt(x)
+        self.pn = 1.0 - u
+        pos = x > 0
+        zero = np.zeros_like(x)
+        # the total rule's d(spring force)/dτ terms, 0 where x = 0: q' = u/(2√x), and on
+        # the cap (ξ = σμf/(kc√x)) kc·q'·ξ = σμ·f·u/(2x)
+        self.qd = np.divide(u, 2.0 * self.q, out=zero, where=pos)
+        self.fu_2x = np.divide(f * u, 2.0 * x, out=zero.copy(), where=pos)
+        self.inner = pos  # x > 0 before the last node (where a slide may end)
+        pos[:, -1] = False
         # x, u, f beside their rates u, −f, df at each node: one gather per side of a step
         # serves the three interpolants of :meth:`at`
-        self.table = np.stack([self.x, self.u, self.f, self.u, -self.f, self.df], axis=-1)
+        self.table = np.stack([x, u, f, u, -f, pulse.df], axis=-1)
 
-    def at(self, rows, tau):
+    def at(self, rows, tau, only_x=False):
         """x, u, f at τ (k, m) for the rows (k,) (an index array), each shaped like τ; τ
         clipped to [0, τ_c]. Cubic Hermite on the nodes (the rates of x, u, f are u, −f,
-        df); x and f floored at 0."""
+        df); x and f floored at 0. ``only_x``: x alone."""
         h = self.h[rows][:, None]
         s = np.minimum(np.maximum(tau / h, 0.0), self.n)
         j = np.minimum(s.astype(int), self.n - 1)
@@ -134,20 +139,29 @@ class _Pulse:
         t2 = th * th
         t3 = t2 * th
         rr = rows[:, None]
-        a, b = self.table[rr, j], self.table[rr, j + 1]  # (k, m, 6)
-        y = (
-            (2 * t3 - 3 * t2 + 1)[..., None] * a[..., :3]
-            + ((t3 - 2 * t2 + th) * h)[..., None] * a[..., 3:]
-            + (3 * t2 - 2 * t3)[..., None] * b[..., :3]
-            + ((t3 - t2) * h)[..., None] * b[..., 3:]
-        )
+        tab = self.table[..., ::3] if only_x else self.table  # x, u: x and its rate
+        a, b = tab[rr, j], tab[rr, j + 1]  # (k, m, 2 or 6)
+        w0, w1 = 2 * t3 - 3 * t2 + 1, (t3 - 2 * t2 + th) * h
+        w2, w3 = 3 * t2 - 2 * t3, (t3 - t2) * h
+        if only_x:
+            return np.maximum(
+                w0 * a[..., 0] + w1 * a[..., 1] + w2 * b[..., 0] + w3 * b[..., 1], 0.0
+            )
+        w0, w1, w2, w3 = w0[..., None], w1[..., None], w2[..., None], w3[..., None]
+        y = w0 * a[..., :3] + w1 * a[..., 3:] + w2 * b[..., :3] + w3 * b[..., 3:]
         return np.maximum(y[..., 0], 0.0), y[..., 1], np.maximum(y[..., 2], 0.0)
 
     @staticmethod
     def gauss_points(t0, t1):
         """The two Gauss points of each [t0, t1], (k, 2)."""
         d = (t1 - t0)[:, None]
-        return np.concatenate([t0[:, None] + _G1 * d, t0[:, None] + _G2 * d], axis=1)
+        return t0[:, None] + _G12 * d
+
+
+def _column(a, M):
+    """``a`` as a float array of shape (M,) (a scalar broadcast)."""
+    a = np.asarray(a, dtype=float)
+    return a if a.shape == (M,) else np.broadcast_to(a, (M,))
 
 
 def _rows(r, M):
@@ -237,7 +251,7 @@ def _linear_root(lo, hi, g_lo, g_hi):
     """Where the line through (lo, g_lo), (hi, g_hi) crosses zero (g_lo ≤ 0 < g_hi)."""
     den = g_hi - g_lo
     th = np.divide(-g_lo, den, out=np.ones_like(den), where=den > 0)
-    return lo + np.clip(th, 0.0, 1.0) * (hi - lo)
+    return lo + np.minimum(np.maximum(th, 0.0), 1.0) * (hi - lo)
 
 
 def _first_crossing(pl, r, hit, g, t_from):
@@ -249,13 +263,24 @@ def _first_crossing(pl, r, hit, g, t_from):
     """
     has = hit.any(axis=1)
     t = np.full(r.size, np.inf)
-    ev = np.nonzero(has)[0]
+    ev = np.flatnonzero(has)
     if ev.size:
-        j = hit[ev].argmax(axis=1)
+        every = ev.size == r.size  # the usual case: no copies of the rows
+        j = (hit if every else hit[ev]).argmax(axis=1)
+        ge = g if every else g[ev]
+        k = np.arange(ev.size)
         he = pl.h[r[ev]]
-        g_lo = np.minimum(g[ev, j - 1], 0.0)
-        t[ev] = np.maximum(_linear_root((j - 1) * he, j * he, g_lo, g[ev, j]), t_from[ev])
+        g_lo = np.minimum(ge[k, j - 1], 0.0)
+        t[ev] = np.maximum(_linear_root((j - 1) * he, j * he, g_lo, ge[k, j]), t_from[ev])
     return t, has, ev
+
+
+def _put(a, R, where, v):
+    """a[R] = v where ``where`` (rows ``R``: a slice of every row, or an index array)."""
+    if isinstance(R, slice):
+        np.copyto(a[R], v, where=where)
+    else:
+        a[R] = np.where(where, v, a[R])
 
 
 def tangential_response(
@@ -291,7 +316,7 @@ def tangential_response(
     if history not in HISTORY_RULES:
         raise InputError(f"unknown Mindlin history rule {history!r}; choose one of {HISTORY_RULES}")
     M, J = pulse.x.shape
-    s0, lam, mu, kc = (np.broadcast_to(np.asarray(a, dtype=float), (M,)) for a in (s0, lam, mu, kc))
+    s0, lam, mu, kc = (_column(a, M) for a in (s0, lam, mu, kc))
     pn = pulse.pn
     pn_end = pn[:, -1]
     if tangential == "none":
@@ -320,19 +345,16 @@ def _mindlin(pulse, s0, lam, mu, kc, history):
     stick = _Stick(history, lam, kc)
     M, J = pl.x.shape
     h = pl.h
-    Phi = _fundamental(pl, stick)
+    Phi = None  # the stick propagators, worked out for the first stick (never in gross slip)
     # initial mode (as pipeline.simulate.impact): does the spring stay under the cap at
     # first contact? Trial force at node 1: total k·s0·τ, incremental (2/3)·k·s0·τ
     trial = kc * pl.q[:, 1] * s0 * h * (1.0 if stick.total else 2.0 / 3.0)
     mode = np.where((s0 <= 0) | (trial < mu * pl.f[:, 1]), 0, 1)  # 0 stick, ±1 slide
-    nodes = np.arange(J)[None, :]
     st = _State(
         s0=s0,
         lam=lam,
         mu=mu,
         kc=kc,
-        nodes=nodes,
-        tau=h[:, None] * nodes,
         mode=np.where(mu <= 0, 1, mode),
         t_a=np.zeros(M),
         p_a=np.zeros(M),
@@ -351,9 +373,11 @@ def _mindlin(pulse, s0, lam, mu, kc, history):
         if not st.active.any():
             break
         segments += st.active
-        stick_rows = np.nonzero(st.active & (st.mode == 0))[0]
-        slide_rows = np.nonzero(st.active & (st.mode != 0))[0]
+        sticking = st.mode == 0
+        stick_rows = np.flatnonzero(st.active & sticking)
+        slide_rows = np.flatnonzero(st.active & ~sticking)
         if stick_rows.size:
+            Phi = _fundamental(pl, stick) if Phi is None else Phi
             _stick_segment(pl, stick, Phi, stick_rows, st)
         if slide_rows.size:
             _slide_segment(pl, stick, slide_rows, st)
@@ -377,19 +401,17 @@ class _State:
     """The M columns' parameters, their state at the start of the current segment and the
     solution so far; the segment functions advance it in place (internal).
 
-    s0, lam, mu, kc : (M,) parameters; nodes (1, J) and tau (M, J) the node indices and times;
-    mode (M,) 0 stick, ±1 slide (the sign of the force); t_a, p_a, pn_a (M,) the segment's
-    start τ, p and normal percussion; v1, v2 (M,) the stick state (ξ or ft, and the slip s);
-    active (M,) the columns still in contact; p, ft, dft (M, J) the solution on the nodes;
-    slide_pn (M,) the normal percussion delivered while sliding.
+    s0, lam, mu, kc : (M,) parameters; mode (M,) 0 stick, ±1 slide (the sign of the force);
+    t_a, p_a, pn_a (M,) the segment's start τ, p and normal percussion; v1, v2 (M,) the
+    stick state (ξ or ft, and the slip s); active (M,) the columns still in contact; p, ft,
+    dft (M, J) the solution on the nodes; slide_pn (M,) the normal percussion delivered
+    while sliding.
     """
 
     s0: np.ndarray
     lam: np.ndarray
     mu: np.ndarray
     kc: np.ndarray
-    nodes: np.ndarray
-    tau: np.ndarray
     mode: np.ndarray
     t_a: np.ndarray
     p_a: np.ndarray
@@ -420,46 +442,48 @@ def _stick_segment(pl, stick, Phi, r, st):
     ta = st.t_a[r]  # a copy: t_a is updated below
     k = np.minimum((ta / hr).astype(int), n - 1)
     t_k1 = (k + 1) * hr
-    qg = np.sqrt(pl.at(r, pl.gauss_points(ta, t_k1))[0])
+    qg = np.sqrt(pl.at(r, pl.gauss_points(ta, t_k1), only_x=True))
     Mp = _magnus(stick, R, qg[:, 0], qg[:, 1], t_k1 - ta)
-    w1 = Mp[0] * st.v1[R] + Mp[1] * st.v2[R]
-    w2 = Mp[2] * st.v1[R] + Mp[3] * st.v2[R]
+    v1, v2 = st.v1[R], st.v2[R]
+    w1 = Mp[0] * v1 + Mp[1] * v2
+    w2 = Mp[2] * v1 + Mp[3] * v2
     P = Phi[:, r, k + 1]  # Φ_{k+1}, det 1: its inverse is [[d, −b], [−c, a]]
-    c1 = P[3] * w1 - P[1] * w2
-    c2 = P[0] * w2 - P[2] * w1
+    c1 = (P[3] * w1 - P[1] * w2)[:, None]
+    c2 = (P[0] * w2 - P[2] * w1)[:, None]
     Ph = Phi[:, R]
-    V1 = Ph[0] * c1[:, None] + Ph[1] * c2[:, None]
-    V2 = Ph[2] * c1[:, None] + Ph[3] * c2[:, None]
+    V1 = Ph[0] * c1 + Ph[1] * c2
+    V2 = Ph[2] * c1 + Ph[3] * c2
     q = pl.q[R]
     F = stick.force(V1, q, RC)
     g = np.abs(F) - st.mu[RC] * pl.f[R]
     # the spring reaches the cap (the trajectory extends back past t_a, so the node before
     # the first hit is on it even when t_a lies beyond it)
-    te, has, ev = _first_crossing(pl, r, (st.nodes > k[:, None]) & (g > 0), g, ta)
-    tr = st.tau[R]
+    te, has, ev = _first_crossing(pl, r, (pl.node > k[:, None]) & (g > 0), g, ta)
+    tr = pl.tau[R]
     own = (tr >= ta[:, None]) & (tr < te[:, None])
-    st.ft[R] = np.where(own, F, st.ft[R])
-    st.p[R] = np.where(own, (st.s0[RC] - V2) / st.lam[RC], st.p[R])
-    st.dft[R] = np.where(own, stick.dforce(V1, V2, q, pl.qd[R], RC), st.dft[R])
+    _put(st.ft, R, own, F)
+    _put(st.p, R, own, (st.s0[RC] - V2) / st.lam[RC])
+    _put(st.dft, R, own, stick.dforce(V1, V2, q, pl.qd[R], RC))
     done = ~has
     if ev.size:
         # the state at the switch: one partial step from the node before it
         re = r[ev]
         he = pl.h[re]
-        tl = np.minimum((te[ev] / he).astype(int), n - 1)
+        t_e = te[ev]
+        tl = np.minimum((t_e / he).astype(int), n - 1)
         tl_node = tl * he
         # x at the partial step's Gauss points and x, u at the switch: one interpolation
-        pts = np.concatenate([pl.gauss_points(tl_node, te[ev]), te[ev][:, None]], axis=1)
+        pts = np.concatenate([pl.gauss_points(tl_node, t_e), t_e[:, None]], axis=1)
         x, u, _ = pl.at(re, pts)
         qg = np.sqrt(x)
-        Mq = _magnus(stick, re, qg[:, 0], qg[:, 1], te[ev] - tl_node)
+        Mq = _magnus(stick, re, qg[:, 0], qg[:, 1], t_e - tl_node)
         a, b = V1[ev, tl], V2[ev, tl]
         xi, s = Mq[0] * a + Mq[1] * b, Mq[2] * a + Mq[3] * b
         st.mode[re] = np.where(stick.force(xi, qg[:, 2], re) >= 0, 1, -1)
-        st.switch(re, te[ev], he)
+        st.switch(re, t_e, he)
         st.p_a[re] = (st.s0[re] - s) / st.lam[re]
         st.pn_a[re] = 1.0 - u[:, 2]
-        done[ev] |= te[ev] >= pl.tau_c[re] * (1 - 1e-12)
+        done[ev] |= t_e >= pl.tau_c[re] * (1 - 1e-12)
     st.active[r[done]] = False
 
 
@@ -475,31 +499,34 @@ def _slide_segment(pl, stick, r, st):
     Pj = st.p_a[RC] + smr * (pl.pn[R] - pn_s[:, None])
     # release: σ·d(free spring force)/dτ − μ·f' < 0 (module notes)
     f, df = pl.f[R], pl.df[R]
-    Rl = sig[:, None] * st.kc[RC] * pl.q[R] * (st.s0[RC] - st.lam[RC] * Pj) - mr * df
+    Rl = (sig * st.kc[R])[:, None] * pl.q[R] * (st.s0[RC] - st.lam[RC] * Pj) - mr * df
     if stick.total:  # on the cap ξ = σμf/(kc√x): the term kc·q'·ξ = μ·f·u/(2x)
-        Rl = Rl + np.where(pl.pos[R], mr * f * pl.u[R] / pl.x2[R], 0.0)
-    tr = st.tau[R]
+        Rl += mr * pl.fu_2x[R]
+    tr = pl.tau[R]
     # −R rises through zero (the closed form extends before t_a); μ = 0 never sticks
-    hit = (tr > ta[:, None]) & pl.inner[R] & (Rl < 0) & (st.mu[R] > 0)[:, None]
+    hit = (tr > ta[:, None]) & pl.inner[R] & (Rl < 0)
+    if not (st.mu[R] > 0).all():
+        hit &= (st.mu[R] > 0)[:, None]
     t_r, has, ev = _first_crossing(pl, r, hit, -Rl, ta)
     own = (tr >= ta[:, None]) & (tr < t_r[:, None])
-    st.ft[R] = np.where(own, smr * f, st.ft[R])
-    st.dft[R] = np.where(own, smr * df, st.dft[R])
-    st.p[R] = np.where(own, Pj, st.p[R])
+    _put(st.ft, R, own, smr * f)
+    _put(st.dft, R, own, smr * df)
+    _put(st.p, R, own, Pj)
     pn_b = pl.pn[r, -1]
     if ev.size:
         re = r[ev]
-        x, u, f_ = (y[:, 0] for y in pl.at(re, t_r[ev][:, None]))
+        t_e = t_r[ev]
+        x, u, f_ = (y[:, 0] for y in pl.at(re, t_e[:, None]))
         pn_ = 1.0 - u
         pn_b[ev] = pn_
-        pr = st.p_a[re] + sig[ev] * st.mu[re] * (pn_ - pn_s[ev])
-        cap = sig[ev] * st.mu[re] * f_
+        sm = sig[ev] * st.mu[re]
+        pr = st.p_a[re] + sm * (pn_ - pn_s[ev])
+        cap = sm * f_
         q = np.sqrt(x)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            xi = np.where(q > 0, cap / (st.kc[re] * np.where(q > 0, q, 1.0)), 0.0)
+        xi = np.divide(cap, st.kc[re] * q, out=np.zeros_like(q), where=q > 0)
         st.v1[re] = xi if stick.total else cap
         st.v2[re] = st.s0[re] - st.lam[re] * pr
         st.mode[re] = 0
-        st.switch(re, t_r[ev], pl.h[re])
+        st.switch(re, t_e, pl.h[re])
     st.slide_pn[R] += pn_b - pn_s
     st.active[r[~has]] = False

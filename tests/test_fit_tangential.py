@@ -1,0 +1,87 @@
+"""pipeline.fit.tangential: the piecewise Mindlin solution against the closed form of a stick
+under a steady normal load, and a batch of columns against the same columns one by one."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from pipeline.fit.pulse import NormalPulse, normal_pulse
+from pipeline.fit.tangential import tangential_response
+
+
+def _steady(F, tau_c, n):
+    """A 'pulse' of one column at constant approach x = 1 and force F (u = 0, f' = 0): the
+    tangential problem alone, with constant coefficients."""
+    one = np.ones((1, n + 1))
+    return NormalPulse(
+        e=np.ones(1),
+        tau_c=np.array([tau_c]),
+        x=one,
+        u=0.0 * one,
+        f=F * one,
+        df=0.0 * one,
+        xg=np.ones((1, 2, n)),
+    )
+
+
+@pytest.mark.parametrize("history", ["total", "incremental"])
+def test_stick_then_slide_under_a_steady_load_is_the_closed_form(history):
+    """At constant normal load (x = 1) the stick is a harmonic oscillator of ω² = λ·kc for
+    either history rule (Mindlin 1949's tangential stiffness, a linear spring until the
+    Coulomb cap; Johnson 1985 §7.4 without the annulus of partial slip):
+    Ft = kc·s0·sin(ωτ)/ω, Pt = s0·(1 − cos ωτ)/λ, until Ft reaches μF at sin(ωτ*) =
+    μFω/(kc·s0); then the contact slides at Ft = μF and, the normal percussion not growing,
+    Pt stays at its value at τ*. Magnus's exponential is exact for constant coefficients,
+    so the stick is exact to rounding; the switch is located by regula falsi between nodes,
+    within h²·max|g''|/(8·g'(τ*)) of τ* (g = Ft − μF, the linear interpolant's error)."""
+    s0, lam, kc, F, mu = 0.3, 3.5, 1.2, 1.0, 0.1
+    tau_c, n = 3.0, 128
+    tr = tangential_response(_steady(F, tau_c, n), s0, lam, mu, kc, history=history)
+    w = np.sqrt(lam * kc)
+    amp = kc * s0 / w
+    t_star = np.arcsin(mu * F / amp) / w
+    tau = np.linspace(0.0, tau_c, n + 1)
+    stick = tau < t_star
+    np.testing.assert_allclose(tr.ft[0, stick], amp * np.sin(w * tau[stick]), rtol=0, atol=1e-13)
+    np.testing.assert_allclose(
+        tr.p[0, stick], s0 * (1 - np.cos(w * tau[stick])) / lam, rtol=0, atol=1e-13
+    )
+    np.testing.assert_allclose(tr.ft[0, ~stick][:-1], mu * F, rtol=1e-14)  # the last node: 0
+    h = tau_c / n
+    dt = h**2 * amp * w**2 / (8 * amp * w * np.cos(w * t_star))
+    p_star = s0 * (1 - np.cos(w * t_star)) / lam
+    # after the switch Pt = Pt(τ_s) + μ·(Pn − Pn(τ_s)): constant on the nodes, Pn(τ_s) = 1 − u
+    # read off u's cubic, whose end rates are −F (this steady 'pulse' is no impact): |u(τ_s)|
+    # ≤ h·F·max(θ − 3θ² + 2θ³) = h·F·√3/18
+    after = tr.p[0, ~stick]
+    np.testing.assert_allclose(after, after[0], rtol=1e-14)
+    assert after[0] == pytest.approx(p_star, abs=mu * F * dt + mu * h * F * np.sqrt(3) / 18)
+    assert tr.segments[0] == 2 and not tr.slip_stops[0]
+    assert tr.kink[0].sum() == 1 and tr.kink[0, int(t_star / h)]
+    # the normal percussion does not grow here: the slide's share is that bound on u alone
+    assert 0.0 <= tr.slide_share[0] <= h * F * np.sqrt(3) / 18
+
+
+@pytest.mark.parametrize("history", ["total", "incremental"])
+def test_columns_solved_together_equal_columns_solved_one_by_one(history):
+    """A batch whose columns take different paths at once — sticking (5°, 15°), gross slip
+    (45°, 70°), no initial slip, no friction, a stiff and a soft spring, two restitutions —
+    gives each column what it gives alone (the segments advance the rows in each mode
+    together, by row indices where the modes differ)."""
+    ang = np.array([5.0, 15.0, 45.0, 70.0, 15.0, 30.0, 10.0, 0.0])
+    s0 = np.tan(np.radians(ang))
+    mu = np.array([0.3, 0.13, 0.1, 0.2, 0.0, 0.13, 0.5, 0.2])
+    kc = np.array([1.2, 1.2, 1.2, 0.5, 1.2, 40.0, 0.05, 1.2])
+    lam = np.full(ang.size, 3.5)
+    e = np.where(np.arange(ang.size) % 2 == 0, 0.9, 0.6)
+    pul = normal_pulse("hunt_crossley", e, 64)
+    both = tangential_response(pul, s0, lam, mu, kc, history=history)
+    assert len(set(both.segments.tolist())) > 1  # the case this test is about
+    for i in range(ang.size):
+        one = tangential_response(pul.take([i]), s0[i], lam[i], mu[i], kc[i], history=history)
+        for name in ("p", "ft", "dft"):
+            np.testing.assert_allclose(getattr(both, name)[i], getattr(one, name)[0], atol=1e-13)
+        for name in ("segments", "slip_stops", "kink"):
+            np.testing.assert_array_equal(getattr(both, name)[i], getattr(one, name)[0])
+        assert both.slide_share[i] == pytest.approx(one.slide_share[0], abs=1e-13)
