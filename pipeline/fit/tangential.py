@@ -247,16 +247,10 @@ def _fundamental(pl: _Pulse, stick: _Stick):
     return flat
 
 
-def _linear_root(lo, hi, g_lo, g_hi):
-    """Where the line through (lo, g_lo), (hi, g_hi) crosses zero (g_lo ≤ 0 < g_hi)."""
-    den = g_hi - g_lo
-    th = np.divide(-g_lo, den, out=np.ones_like(den), where=den > 0)
-    return lo + np.minimum(np.maximum(th, 0.0), 1.0) * (hi - lo)
-
-
 def _first_crossing(pl, r, hit, g, t_from):
     """Where g (rows ``r``, on the nodes) first rises through zero: by regula falsi between
-    the first node marked in ``hit`` and the one before it, not before ``t_from``.
+    the first node marked in ``hit`` (never node 0; g > 0 there) and the one before it (g
+    there taken as ≤ 0), not before ``t_from``.
 
     Returns the instants (inf for a row without a hit), the rows with one (bool), and their
     positions in ``r``.
@@ -271,7 +265,8 @@ def _first_crossing(pl, r, hit, g, t_from):
         k = np.arange(ev.size)
         he = pl.h[r[ev]]
         g_lo = np.minimum(ge[k, j - 1], 0.0)
-        t[ev] = np.maximum(_linear_root((j - 1) * he, j * he, g_lo, ge[k, j]), t_from[ev])
+        # the line's root between the nodes: −g_lo/(g_hi − g_lo) ∈ [0, 1] as g_hi > 0 ≥ g_lo
+        t[ev] = np.maximum((j - 1 - g_lo / (ge[k, j] - g_lo)) * he, t_from[ev])
     return t, has, ev
 
 
@@ -382,9 +377,10 @@ def _mindlin(pulse, s0, lam, mu, kc, history):
         if slide_rows.size:
             _slide_segment(pl, stick, slide_rows, st)
     st.ft[:, -1] = 0.0  # the last node: the contact has ended
-    with np.errstate(divide="ignore", invalid="ignore"):
-        share = np.clip(np.where(pl.pn[:, -1] > 0, st.slide_pn / pl.pn[:, -1], 0.0), 0.0, 1.0)
-    slip_stops = np.any(s0[:, None] - lam[:, None] * st.p <= 0, axis=1)
+    pn_end = pl.pn[:, -1]
+    share = np.divide(st.slide_pn, pn_end, out=np.zeros(M), where=pn_end > 0)
+    share = np.minimum(np.maximum(share, 0.0), 1.0)
+    slip_stops = (lam[:, None] * st.p >= s0[:, None]).any(axis=1)  # s0 − λp ≤ 0
     return TangentialResponse(
         p=st.p,
         ft=st.ft,
