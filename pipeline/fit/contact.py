@@ -644,9 +644,11 @@ def _mu_start(data, t_peak):
     ch = {c.name: c for c in data.channels}
     m = math.nan
     if "Fn" in ch and "Ft" in ch:
-        w = data.window
-        inside = [(c.t, c.y, (c.t >= w.t_start) & (c.t <= w.t_end)) for c in (ch["Fn"], ch["Ft"])]
-        m = mu_plateau(*(a[k] for t, y, k in inside for a in (t, y)), t_peak)
+        w, cut = data.window, []
+        for c in (ch["Fn"], ch["Ft"]):
+            inside = (c.t >= w.t_start) & (c.t <= w.t_end)
+            cut += [c.t[inside], c.y[inside]]
+        m = mu_plateau(*cut, t_peak)
     C = data.sensor.crosstalk
     if C is not None and np.isfinite(m):
         # the measured ratio is (C10 + C11·μ)/(C00 + C01·μ): undo the sensor's mixing
