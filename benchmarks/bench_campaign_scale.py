@@ -69,6 +69,7 @@ import numpy as np
 
 from benchmarks.bench_campaign import _cpu, machine
 from pipeline._atomic import atomic_path, atomic_write_text
+from pipeline.campaigns.run import LOG_LENGTH
 
 ROOT = Path(__file__).resolve().parents[1]
 SIZES = (10, 30, 100, 300, 1000, 3000, 10000)
@@ -82,12 +83,13 @@ REPORTS_TARGET_S = 600.0
 SLOPE_TARGET = 1.05
 MEMORY_TARGET_MB = 1024.0
 N_BOOT = 200
-#: what docs/cluster.md tells a cluster's workers (the allocator keeping freed memory,
-#: the statistical profiler off)
+#: what docs/cluster.md tells a cluster's processes (the workers' allocator keeping freed
+#: memory, their statistical profiler off, short logs of recent messages)
 CLUSTER_ENV = {
     "DASK_DISTRIBUTED__NANNY__PRE_SPAWN_ENVIRON__MALLOC_TRIM_THRESHOLD_": "268435456",
     "DASK_DISTRIBUTED__NANNY__PRE_SPAWN_ENVIRON__MALLOC_MMAP_THRESHOLD_": "33554432",
     "DASK_DISTRIBUTED__WORKER__PROFILE__ENABLED": "False",
+    "DASK_DISTRIBUTED__ADMIN__LOW_LEVEL_LOG_LENGTH": str(LOG_LENGTH),
 }
 
 
@@ -151,13 +153,11 @@ def _one(n: int, mode: str, folder: str, out: str, nc: str | None = None) -> dic
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         if mode != "serial":
-            from distributed import Client
-
-            from pipeline.campaigns.run import local_cluster
+            from pipeline.campaigns.run import local_cluster, open_client
 
             t = time.perf_counter()
-            cluster = local_cluster(2)
-            client = Client(cluster)
+            cluster = local_cluster(2)  # and its client, as `campaign(workers=2)` starts them
+            client = open_client(cluster)
             t_cluster = time.perf_counter() - t
             kw["scheduler"] = client
         try:

@@ -413,6 +413,34 @@ def test_a_campaigns_workers_build_an_outcome_table_once(tmp_path, monkeypatch):
     assert len(list(tmp_path.glob("outcome-table-*.npz"))) == 1
 
 
+def test_the_dask_processes_a_campaign_starts_keep_short_logs():
+    """A local cluster and its client started for a campaign keep LOG_LENGTH of their recent
+    messages, transitions and events — in the client, the scheduler and the worker — where
+    dask keeps 1,000 of each, and a joint fit's message holds the chunk of records it
+    carries (pipeline.campaigns.run notes); the process's own dask settings stay as they
+    were."""
+    pytest.importorskip("distributed")
+    import dask
+
+    from pipeline.campaigns.run import LOG_LENGTH, connect
+
+    key = "distributed.admin.low-level-log-length"
+    before = dask.config.get(key)
+
+    def worker_logs(dask_worker):
+        return {dask_worker.batched_stream.recent_message_log.maxlen, dask_worker.state.log.maxlen}
+
+    with connect(workers=1) as client:
+        scheduler = client.cluster.scheduler
+        streams = [*scheduler.stream_comms.values(), *scheduler.client_comms.values()]
+        kept = {client.scheduler_comm.recent_message_log.maxlen, scheduler.transition_log.maxlen}
+        kept |= {s.recent_message_log.maxlen for s in streams}
+        (in_worker,) = client.run(worker_logs).values()
+    assert len(streams) == 2  # the worker's and the client's
+    assert kept == in_worker == {LOG_LENGTH}
+    assert dask.config.get(key) == before
+
+
 @pytest.mark.slow
 def test_a_local_cluster_stops_quietly_after_a_good_run(caplog):
     """A worker that does not exit when asked (a thread a library left running) is killed

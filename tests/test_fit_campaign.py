@@ -250,7 +250,11 @@ def test_the_joint_fit_in_an_executor_is_the_same_fit(constant_e):
     """The records prepared and their chunks evaluated in an executor's workers (one record
     a chunk, several in flight, each travelling as the store wrote it; a campaign on a
     cluster hands its client's executor) give the same fit: every value within 1e-9 of its
-    standard error."""
+    standard error. Each chunk's job carries only what is its own: the chunk's bytes as
+    the store wrote them (a uint8 array over them, which dask sends without a copy) and its
+    records' rows of local parameters and derivatives as arrays of their own — never a
+    view of the campaign's (records × parameters) arrays, which a message kept by dask
+    (its logs of recent messages) would keep whole (pipeline.fit.blocks notes)."""
     from concurrent.futures import ThreadPoolExecutor
 
     class Counted(ThreadPoolExecutor):
@@ -259,7 +263,10 @@ def test_the_joint_fit_in_an_executor_is_the_same_fit(constant_e):
         def submit(self, fn, *args, **kwargs):
             Counted.jobs[fn.__name__] = Counted.jobs.get(fn.__name__, 0) + 1
             if fn.__name__ == "_chunk":
-                assert isinstance(args[1], bytes)  # the chunk as the store wrote it
+                _, chunk, rows, D, _ = args
+                assert chunk.dtype == np.uint8 and isinstance(chunk.base, bytes)
+                for a in (rows, D):
+                    assert a is None or (a.base is None and len(a) == 1)  # one record's own
             return super().submit(fn, *args, **kwargs)
 
     blocks, scenes, recs = constant_e

@@ -14,6 +14,15 @@ now and then, and a serial campaign's peak grew by ~0.3 MB a record over its fir
 hundred records. A worker that cannot write the output (a full disk:
 :class:`~pipeline.errors.OutputError`) ends the run with the same one-line error as this
 process would.
+
+A dask client, scheduler and worker keep their last messages, task transitions and events
+for debugging (``distributed.admin.low-level-log-length``: 1,000 of each by default), and
+a message holds what it carries: on a cluster a joint fit's evaluations send chunks of
+records of up to ~1.4 MB (:mod:`pipeline.fit.blocks`), and the logs of the client and of a
+local cluster's scheduler (both in this process) held ~35 MB of them after a joint fit of
+1,000 records, and could hold a thousand chunks each where the records are shorter. The
+clients and local clusters started here (:func:`open_client`, :func:`local_cluster`) keep
+:data:`LOG_LENGTH` of each; a client or cluster the caller made keeps its own settings.
 """
 
 from __future__ import annotations
@@ -31,6 +40,8 @@ __all__ = [
     "iter_results",
     "connect",
     "local_cluster",
+    "open_client",
+    "LOG_LENGTH",
     "CHUNKS_PER_WORKER",
     "MAX_CHUNK",
 ]
@@ -41,6 +52,9 @@ CHUNKS_PER_WORKER = 2
 #: Records between two releases of a serial run's freed memory (:func:`iter_results`):
 #: a full collection costs tens of ms, a record some hundreds.
 COLLECT_EVERY = 20
+#: Messages, transitions and events kept for debugging by each dask client, scheduler and
+#: worker started here (module notes; dask's ``distributed.admin.low-level-log-length``).
+LOG_LENGTH = 16
 #: Most records in one chunk (a chunk's results wait on its worker until all are done:
 #: ~13 kB a record).
 MAX_CHUNK = 50
@@ -60,6 +74,9 @@ def local_cluster(workers: int):
     figures) made each worker grow by ~0.8 MB a record (from 306 MB at 10 records to
     774 MB at 1,000; ``make bench``, ``campaign_scale``). With it off a worker peaks at
     266 MB at 10 records and 351 MB at 1,000.
+
+    The scheduler and the workers keep :data:`LOG_LENGTH` of their recent messages,
+    transitions and events (module notes).
     """
     import dask
     from distributed import LocalCluster
@@ -69,6 +86,7 @@ def local_cluster(workers: int):
     settings = {
         "distributed.nanny.pre-spawn-environ": env,
         "distributed.worker.profile.enabled": False,
+        "distributed.admin.low-level-log-length": LOG_LENGTH,
     }
     with dask.config.set(settings):
         return LocalCluster(
@@ -77,6 +95,16 @@ def local_cluster(workers: int):
             processes=True,
             dashboard_address=":0",  # a free port: never the warning that 8787 is taken
         )
+
+
+def open_client(address, **options):
+    """A ``distributed.Client`` of ``address`` (a scheduler's, or a cluster; ``options`` as
+    the Client's) that keeps :data:`LOG_LENGTH` of its recent messages (module notes)."""
+    import dask
+    from distributed import Client
+
+    with dask.config.set({"distributed.admin.low-level-log-length": LOG_LENGTH}):
+        return Client(address, **options)
 
 
 def _run_chunk(fn, chunk):
@@ -170,7 +198,7 @@ def connect(*, workers=None, scheduler=None):
         yield None
         return
     try:
-        from distributed import Client
+        import distributed  # noqa: F401
     except ImportError:
         raise InputError(
             "running on dask needs the 'distributed' extra: pip install 'pipeline[distributed]'"
@@ -180,14 +208,14 @@ def connect(*, workers=None, scheduler=None):
         client = scheduler  # a distributed.Client the caller owns
     elif scheduler is not None:
         try:
-            client = Client(scheduler, timeout="10s")
+            client = open_client(scheduler, timeout="10s")
         except (OSError, TimeoutError) as exc:
             raise InputError(f"cannot reach the dask scheduler at {scheduler}: {exc}") from exc
     else:
         if int(workers) < 1:
             raise InputError(f"workers must be ≥ 1, got {workers}")
         cluster = local_cluster(workers)
-        client = Client(cluster)
+        client = open_client(cluster)
     hushed = contextlib.nullcontext()
     try:
         yield client

@@ -35,6 +35,15 @@ solver keeps only its blocks (a few dozen numbers), its χ² and its share of th
 may come a chunk at a time from a :class:`pipeline.fit.store.RecordStore`, so the memory
 does not grow with the records beyond those few numbers.
 
+With an ``executor`` (a dask client's, on a cluster), each evaluation sends every chunk of
+records as the store wrote it, with its rows of local parameters and their derivatives.
+The chunk travels as a uint8 array over its bytes, which dask serializes without copying
+it, and the rows as copies of the chunk's own: a slice of the campaign's arrays would be
+serialized as a view and keep the whole array alive for as long as a message holds it —
+and a dask client and scheduler keep their recent messages for debugging
+(``distributed.admin.low-level-log-length``, a thousand by default), so an evaluation's
+(records × parameters) derivatives lingered some evaluations after they were used.
+
 The covariance is the inverse of the same block matrix at λ = 0, assembled from the blocks
 (the shared block is the inverse of the Schur complement; Golub & Van Loan 2013, §3.2.11),
 scaled by max(1, χ²_ν) as every fit's (:mod:`pipeline.fit.uncertainty`).
@@ -152,16 +161,19 @@ def _evaluate(
     else:
         rows, D = _rows(design, theta), None
     ps = shared.size
-    jobs = (
-        (model, chunk, rows[a : a + n], None if D is None else D[a : a + n], ps)
-        for a, n, chunk in chunks_of(datas, CHUNK, packed=executor is not None)
-    )
+
+    def jobs():  # what travels to an executor (module notes)
+        for a, n, chunk in chunks_of(datas, CHUNK, packed=executor is not None):
+            if executor is not None:
+                chunk = np.frombuffer(chunk, dtype=np.uint8)
+            yield model, chunk, rows[a : a + n].copy(), None if D is None else D[a : a + n].copy(), ps
+
     chi2 = np.empty(R)
     blocks, parts = None, None
     if jacobian:
         blocks, parts = _empty_blocks(R, ps, D.shape[2] - ps), [None] * R
     a = 0
-    for c2, b, p in in_order(executor, _chunk, jobs):
+    for c2, b, p in in_order(executor, _chunk, jobs()):
         n = c2.size
         chi2[a : a + n] = c2
         if jacobian:
@@ -176,9 +188,9 @@ def _chunk(model, chunk, rows, D, ps):
     """One chunk of records at their local parameters ``rows`` (n, L): each record's χ²,
     and with their derivatives ``D`` (n, L, p_s + p_o) by the global parameters (through
     the local parameters they move) its normal-equation blocks and misfit share (module
-    notes). ``chunk``: the records, or a store's chunk as written (bytes); the work of
-    :func:`_evaluate`, here or in another process."""
-    if isinstance(chunk, bytes):
+    notes). ``chunk``: the records, or a store's chunk as written (its bytes, as a uint8
+    array); the work of :func:`_evaluate`, here or in another process."""
+    if not isinstance(chunk, list):
         chunk = load_chunk(chunk)
     Ps = [P[None, :] for P in rows]
     n = len(chunk)

@@ -346,8 +346,9 @@ def in_order(executor, fn, jobs):
             f.cancel()
 
 
-def load_chunk(blob: bytes) -> list:
-    """The records of a chunk as a :class:`RecordStore` wrote it (:meth:`RecordStore.blobs`)."""
+def load_chunk(blob) -> list:
+    """The records of a chunk as a :class:`RecordStore` wrote it (:meth:`RecordStore.blobs`;
+    ``blob``: its bytes, or any bytes-like object over them)."""
     return [unpack(s) for s in pickle.loads(blob)]
 
 
