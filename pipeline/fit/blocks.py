@@ -166,7 +166,8 @@ def _evaluate(
         for a, n, chunk in chunks_of(datas, CHUNK, packed=executor is not None):
             if executor is not None:
                 chunk = np.frombuffer(chunk, dtype=np.uint8)
-            yield model, chunk, rows[a : a + n].copy(), None if D is None else D[a : a + n].copy(), ps
+            d = None if D is None else D[a : a + n].copy()
+            yield model, chunk, rows[a : a + n].copy(), d, ps
 
     chi2 = np.empty(R)
     blocks, parts = None, None
