@@ -608,12 +608,15 @@ def _moments(t, y):
     return area, mean, math.sqrt(max(var, 0.0))
 
 
+def _in_window(c, w):
+    """(t [s], y [N]) of the fitted channel ``c`` inside the contact window ``w``."""
+    inside = (c.t >= w.t_start) & (c.t <= w.t_end)
+    return c.t[inside], c.y[inside]
+
+
 def _start(data: RecordData, model: ForwardModel, speed: float) -> dict:
-    fn = data.channels[0]
     v0 = speed * data.cos_a
-    w = data.window
-    inside = (fn.t >= w.t_start) & (fn.t <= w.t_end)
-    area, mean, width = _moments(fn.t[inside], fn.y[inside])
+    area, mean, width = _moments(*_in_window(data.channels[0], data.window))
     e0 = 1.0 if model.normal == "hertz" else float(np.clip(area / (data.m_eff * v0) - 1, 0.2, 0.99))
     if model.normal is None:  # rigid: impulses at t0
         return {
@@ -644,11 +647,8 @@ def _mu_start(data, t_peak):
     ch = {c.name: c for c in data.channels}
     m = math.nan
     if "Fn" in ch and "Ft" in ch:
-        w, cut = data.window, []
-        for c in (ch["Fn"], ch["Ft"]):
-            inside = (c.t >= w.t_start) & (c.t <= w.t_end)
-            cut += [c.t[inside], c.y[inside]]
-        m = mu_plateau(*cut, t_peak)
+        w = data.window
+        m = mu_plateau(*_in_window(ch["Fn"], w), *_in_window(ch["Ft"], w), t_peak)
     C = data.sensor.crosstalk
     if C is not None and np.isfinite(m):
         # the measured ratio is (C10 + C11·μ)/(C00 + C01·μ): undo the sensor's mixing
