@@ -1195,9 +1195,7 @@ def _ringing(runs, r, main_size) -> list:
         period = 2.0 * (chain[-1].a - chain[0].a) / (len(chain) - 1)
         top = max(abs(r[x.peak]) for x in chain[-2:])
         return (
-            run.a - chain[-1].b <= period
-            and abs(r[run.peak]) <= 1.5 * top
-            and run.size < main_size
+            run.a - chain[-1].b <= period and abs(r[run.peak]) <= 1.5 * top and run.size < main_size
         )
 
     for prev, run in zip(runs, runs[1:], strict=False):
