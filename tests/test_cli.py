@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -27,6 +28,18 @@ def _run(capsys, *argv):
     code = main([str(a) for a in argv])
     out, err = capsys.readouterr()
     return code, out, err
+
+
+def test_a_hint_the_fit_left_out_says_which_way_the_aic_moved(capsys):
+    """Garland & Rogers' 30° record (the sample) hints at a mode its fit does not keep: the
+    note says how the AIC moved, never that fitting the mode "lowered" it by a negative
+    amount."""
+    code, out, _ = _run(capsys, "fit", SAMPLES / "gr_30deg_0.6ms.csv", "--json")
+    notes = [n for n in json.loads(out)["fit"]["notes"] if "hinted at" in n]
+    assert code == 0 and notes
+    for note in notes:
+        moved = re.search(r"lowered the AIC by ([-\d.]+) only|it rose by ([-\d.]+)\)", note)
+        assert moved and float(moved.group(1) or moved.group(2)) > 0, note
 
 
 @pytest.mark.parametrize("name", ["wpd_Fn.csv", "wpd_datasets.csv", "sensor.tdms"])

@@ -874,10 +874,12 @@ def _with_dynamics(fit, findings, record, scene, model, vary, t_begin, opts) -> 
     base_aic = _aic_on(fit, alt, record, scene, model, opts)
     gain = base_aic - alt.aic
     if not gain > AIC_DECISIVE:
-        note = (
-            f"the residuals hinted at {_what(findings)}, but fitting it lowered the AIC by "
-            f"{gain:.1f} only (≤ {AIC_DECISIVE:g}): left out"
+        change = (
+            f"lowered the AIC by {gain:.1f} only (≤ {AIC_DECISIVE:g})"
+            if gain > 0
+            else f"did not lower the AIC (it rose by {-gain:.1f})"
         )
+        note = f"the residuals hinted at {_what(findings)}, but fitting it {change}: left out"
         return dataclasses.replace(fit, notes=fit.notes + (note,))
     if alt.poor:  # its own PoorFitWarning was held back with the trial's
         warnings.warn(
