@@ -267,6 +267,35 @@ def test_short_trigger_spans_still_give_the_window():
     assert np.median(noise) == pytest.approx(SIGMA_N, rel=0.25)
 
 
+def test_a_slow_digitiser_short_record_gives_the_window():
+    """A 100 kHz capture (a general-purpose DAQ card): 10 pre- and 20 post-trigger samples
+    around a ~10-sample contact, 41 samples in all. The first noise estimate must not rest
+    on 4 end samples: the MAD of so few (about their own median) falls to a tenth of σ by
+    chance, the noise then reads as a sensor's ring after the pulse and the window refused
+    the record for want of baseline samples (3 of these 40 noise draws)."""
+    from pipeline.sensor_model import SENSOR_DEFAULTS, to_sensor
+
+    rate = 1e5
+    h = IMPACT.t_c / 2000
+    t = np.arange(-5, 2006) * h
+    F = hertz_pulse(t, IMPACT)["F"]
+    ideal = make_record(
+        t,
+        {"Fn": F, "Ft": 0.2 * F, "Fy": 0.0 * F},
+        attrs={"source": "hertz_pulse", "format": "test", "kind": "simulated"},
+    )
+    delay = np.sqrt(2.0) / (2 * np.pi * SENSOR_DEFAULTS["bandwidth"])
+    # end_tolerance at this rate, and two periods more: at 10 samples per contact a noise
+    # sample above σ beside an end (chance 0.16 each) moves it by a whole period
+    tol = 3.0 / rate + (3 * SENSOR_DEFAULTS["noise"] / IMPACT.K) ** (2 / 3) / IMPACT.v0
+    for seed in range(40):
+        rec = to_sensor(ideal, rate=rate, seed=seed)
+        assert rec.sizes["time"] == 41
+        w = find_contact(rec)
+        assert abs(w.t_start - delay) < tol, seed
+        assert abs(w.t_end - (IMPACT.t_c + delay)) < tol, seed
+
+
 # --------------------------------------------------------------- what a careful eye refuses
 def _with_fn(rec, fn):
     out = rec.copy(deep=True)
