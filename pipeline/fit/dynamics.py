@@ -455,7 +455,7 @@ def _mode(r, data, t_end, scores):
     scores.update(
         ring_chi2=chi2, ring_threshold=threshold, ring_f_d=w / (2 * math.pi), ring_zeta=zeta
     )
-    if chi2 <= threshold or zeta > ZETA_MAX or not w > 0:
+    if chi2 <= threshold or not 0 < zeta <= ZETA_MAX or not w > 0:  # no decay: not a mode
         return None
     delta = 2 * math.pi * s / w
     return (wn / (2 * math.pi), zeta, chi2, w / (2 * math.pi), delta)
