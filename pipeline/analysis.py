@@ -70,13 +70,17 @@ class Outcomes:
     .. math::
 
         e_n = \frac{P_{nf} - P_{nc}}{P_{nc}}, \quad
-        e_t = 1 - \frac{P_{tf}}{m\,v_{t0}}, \quad
-        \omega = \omega_0 + \frac{P_{tf}}{\kappa m R}, \quad
-        \theta_r = \arctan\frac{v_{t0} - P_{tf}/m}{P_{nf}/m^* - v_{n0}}
+        e_t = 1 - \frac{\sigma P_{tf}}{m\,v_{t0}}, \quad
+        \omega = \sigma\omega_0 + \frac{P_{tf}}{\kappa m R}, \quad
+        \theta_r = \arctan\frac{v_{t0} - \sigma P_{tf}/m}{P_{nf}/m^* - v_{n0}}
 
     (Poisson's restitution, the tangential restitution of the centre, the spin after impact
-    positive in the sense Pt > 0 produces, the rebound angle from the normal). ``std``
-    holds the standard deviation over the analysis' bootstrap replicates (NaN without).
+    positive in the sense Pt > 0 produces, the rebound angle from the normal on the scene's
+    axis). Pt opposes the *initial* slip s0 = v_t0 − ω0·R, so where a spin or a moving
+    surface makes s0 < 0 it acts along −t: σ = sign(s0) (+1 for s0 = 0), and ω is on the
+    slip's axis as :func:`pipeline.rigid.sphere_on_plane` and
+    :func:`pipeline.simulate.impact` report it. ``std`` holds the standard deviation over
+    the analysis' bootstrap replicates (NaN without).
 
     Attributes
     ----------
@@ -101,6 +105,12 @@ class Outcomes:
         )
 
 
+def slip_sign(scene: Scene) -> float:
+    """σ = sign of the initial slip s0 = v_t0 − ω0·R (+1 for none) [-]: a record's Pt, which
+    opposes the initial slip, acts on the ball along σ·(−t) (docs/theory.md)."""
+    return -1.0 if float(scene.slip0) < 0 else 1.0
+
+
 def measured_outcomes(scene: Scene, Pn_f, Pt_f, Pn_c) -> dict:
     """e_n, e_t, ω, rebound angle (:class:`Outcomes`) from final percussions [N·s].
 
@@ -110,14 +120,16 @@ def measured_outcomes(scene: Scene, Pn_f, Pt_f, Pn_c) -> dict:
     Pn_f, Pt_f, Pn_c = (np.asarray(x, dtype=float) for x in (Pn_f, Pt_f, Pn_c))
     m, m_eff = float(scene.m), float(scene.m_eff)
     v_t0, v_n0 = float(scene.v_t0), float(scene.v_n0)
-    v_t = v_t0 - Pt_f / m
+    sigma = slip_sign(scene)
+    v_t = v_t0 - sigma * Pt_f / m  # on the scene's axis
     v_n = Pn_f / m_eff - v_n0
     with np.errstate(divide="ignore", invalid="ignore"):
         e_t = v_t / v_t0 if v_t0 != 0 else np.full_like(Pt_f, np.nan)
+    spin = sigma * float(scene.spin)  # on the slip's axis
     return {
         "e_n": (Pn_f - Pn_c) / Pn_c,
         "e_t": e_t,
-        "omega": float(scene.spin) + Pt_f / (float(scene.kappa) * m * float(scene.radius)),
+        "omega": spin + Pt_f / (float(scene.kappa) * m * float(scene.radius)),
         "rebound_deg": np.degrees(np.arctan2(v_t, v_n)),
         "Pn_f": Pn_f,
         "Pt_f": Pt_f,
@@ -306,7 +318,7 @@ class Analysis:
             "e_n": float(self.rigid_scene.e),
             "e_t": float(rs.e_t),
             "omega": float(rs.omega),
-            "rebound_deg": float(np.degrees(np.arctan2(float(rs.v_t), float(rs.v_n)))),
+            "rebound_deg": float(np.degrees(np.arctan2(float(rs.v_t_scene), float(rs.v_n)))),
         }
         names = {"e_n": "e_n [-]", "e_t": "e_t [-]", "omega": "ω [rad/s]"}
         names["rebound_deg"] = "rebound [deg]"

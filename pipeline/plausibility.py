@@ -533,7 +533,8 @@ def _e_t_bound(scene, outcomes, Pn_f, Pt_f, u, src) -> Check:
 
 def _energy(scene, Pn_f, Pt_f, u, src) -> Check:
     """Kinetic energy of the ball after against before, the target fixed: v_n = Pn_f/m −
-    v_n0, v_t = v_t0 − Pt_f/m, ω = ω0 + Pt_f·R/I (docs/theory.md)."""
+    v_n0, v_t = v_t0 − σ·Pt_f/m, ω = ω0 + σ·Pt_f·R/I on the scene's axis, σ the sign of the
+    initial slip that Pt opposes (docs/theory.md)."""
     if not math.isinf(float(scene.target_mass)):
         return Check(
             "energy", "skipped", note="a target of finite mass: its motion is not measured"
@@ -544,8 +545,9 @@ def _energy(scene, Pn_f, Pt_f, u, src) -> Check:
     K0 = 0.5 * m * (v_n0**2 + v_t0**2) + 0.5 * inertia * w0**2
     if not K0 > 0:
         return Check("energy", "skipped", note="the scene brings no kinetic energy")
-    v_n, v_t = Pn_f / m - v_n0, v_t0 - Pt_f / m
-    w = w0 + Pt_f * R / inertia
+    sigma = -1.0 if float(scene.slip0) < 0 else 1.0  # Pt opposes the initial slip
+    v_n, v_t = Pn_f / m - v_n0, v_t0 - sigma * Pt_f / m
+    w = w0 + sigma * Pt_f * R / inertia
     K1 = 0.5 * m * (v_n**2 + v_t**2) + 0.5 * inertia * w**2
     ratio = K1 / K0
     dn, dt = abs(v_n), abs(w * R - v_t)  # ∂K/∂Pn, ∂K/∂Pt

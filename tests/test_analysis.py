@@ -272,3 +272,26 @@ def test_fit_bootstrap_matches_the_fit_covariance_on_a_short_window():
     fits4 = fit_window(win4, degree=3, warn=False)
     assert fits4.Fn.dof == 0
     assert _bootstrap(win4, percussions(win4, fits4), fits4, 50, 0) == {}
+
+
+@pytest.mark.parametrize("surface_speed,spin", [(0.5, 0.0), (0.0, 60.0)])
+def test_outcomes_of_a_slip_against_the_scene_axis(surface_speed, spin):
+    """The seed's rotating disc running faster than the ball (v_t0 = v·sin α − u < 0), or a
+    backspin past rolling (ω0·R > v_t0): the initial slip s0 = v_t0 − ω0·R is negative, and
+    Pt, which opposes it, pushes the ball along +t. Sliding throughout (μ(1+e)·m·v_n0 <
+    (2/7)·m·|s0|), Routh's end point gives (docs/theory.md) v_t = v_t0 + μ(1+e)·v_n0 on the
+    scene's axis, ω = −ω0 + μ(1+e)·v_n0/(κR) on the slip's, and no energy gained (a
+    warning is an error here: the old outcomes took Pt along −t and gained energy)."""
+    scene = Scene(speed=0.5, angle_deg=15.0, mu=0.1, e=0.8, spin=spin,
+                  surface_speed=surface_speed, **STEEL)  # fmt: skip
+    assert scene.slip0 < 0
+    a = _analyse(impact(scene, tangential="coulomb"), scene, n_boot=0)
+    assert a.rigid.regime == "sliding"
+    dv = 0.1 * 1.8 * scene.v_n0  # Pt_f/m
+    v_t = scene.v_t0 + dv
+    # the ideal record's percussions are exact to ~1e-6 of Pn; e by its calibration
+    assert a.outcomes["e_t"] == pytest.approx(v_t / scene.v_t0, rel=1e-3)
+    assert a.outcomes["omega"] == pytest.approx(-spin + dv / (0.4 * scene.radius), rel=1e-3)
+    rebound = math.degrees(math.atan2(v_t, 0.8 * scene.v_n0))
+    assert a.outcomes["rebound_deg"] == pytest.approx(rebound, abs=0.05)
+    assert a.plausibility.summary()["energy"]["status"] == "ok"
