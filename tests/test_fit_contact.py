@@ -410,6 +410,25 @@ def test_cross_talk_biases_mu_and_is_detected():
     assert told.values["mu"] == pytest.approx(0.13, rel=0.01)
 
 
+def test_an_ft_axis_of_the_other_sign_is_named_not_cross_talk():
+    """Ft recorded with the opposite sign (the commonest axis mistake: the sensor's +x
+    against the slip) pushes the ball along its slip from the start, which no passive
+    contact does (docs/theory.md: Ft > 0 opposes the initial slip). The fit explains it with
+    an Fn → Ft leak of −6 % and a μ at its bound; the verdict must name the sign first and
+    say how to load the record, and the same record read the right way must not."""
+    sc = gr(angle_deg=15.0, mu=0.13, target_radius=math.inf)
+    rec = to_sensor(impact(sc, samples=2001), seed=3)
+    flipped = rec.copy()
+    flipped["Ft"] = -rec["Ft"]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", PipelineWarning)
+        bad = fit_contact(flipped, sc.replace(mu=None, e=None), n_boot=0)
+        good = fit_contact(rec, sc.replace(mu=None, e=None), n_boot=0)
+    assert bad.verdict["causes"][0] == "ft_sign" and not bad.verdict["ok"]
+    assert "axes={'Ft': '-Fx'}" in bad.verdict["messages"]["ft_sign"]
+    assert "ft_sign" not in good.verdict["causes"]
+
+
 def test_mu_start_undoes_a_known_cross_talk():
     """The starting μ (the sliding plateau of Ft/Fn) reads μ + C10/C11 through a leak of Fn
     into Ft; with the matrix known it is unmixed: (C00·r − C10)/(C11 − C01·r)."""

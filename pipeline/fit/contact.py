@@ -579,6 +579,7 @@ _CAUSE_WORDS = {
     "crosstalk": "the force axes leak into each other (cross-talk)",
     "coloured_noise": "the noise is coloured (modelled)",
     "impulse_mismatch": "the model's impulse differs from the measured one",
+    "ft_sign": "Ft pushes the ball along its slip: its sign convention is the opposite",
     "geometry": "the contact normal turns on the curved target",
     "second_impact": "a second impact follows",
     "sensor_dynamics": "the sensor's own mode, discharge or zero shift shows (modelled)",

@@ -26,6 +26,11 @@ cause                 found by                                           warning
                       than three of its standard deviations and
                       :data:`IMPULSE_FLOOR` of it: the model trades
                       impulse for pulse shape
+``ft_sign``           Ft pushes the ball along its initial slip when Fn  FrictionDirectionWarning
+                      first reaches half its peak, beyond the noise and
+                      :data:`SLIP_LEAK` of Pn: a passive contact's
+                      friction opposes the slip there (Ft > 0), so the
+                      Ft channel has the opposite sign convention
 ``geometry``          the contact normal turns on a curved target by     GeometryWarning
                       more than the fit's tolerance
                       (:func:`pipeline.simulate.curved.geometry_error`)
@@ -71,6 +76,7 @@ import numpy as np
 
 from ..errors import (
     ColouredNoiseWarning,
+    FrictionDirectionWarning,
     GeometryWarning,
     ImpulseMismatchWarning,
     NormalLawWarning,
@@ -79,6 +85,7 @@ from ..errors import (
     SpikeWarning,
 )
 from ..precision import plain_quantities, reading
+from ..record import channel
 from .forward import _I, SHIFT_OF
 from .pulse import shape_of
 from .sensor import CrossTalkWarning, fy_tracks_fn
@@ -102,6 +109,7 @@ CAUSES = (
     "crosstalk",
     "coloured_noise",
     "impulse_mismatch",
+    "ft_sign",
     "geometry",
     "second_impact",
     "sensor_dynamics",
@@ -122,7 +130,18 @@ FAMILY_LAWS = ("hunt_crossley", "hertz_dashpot", "viscoelastic", "thornton")
 #: frequencies (f_c·t_c): there the other Butterworth orders are fitted too.
 FILTER_SHAPES = 10.0
 #: The causes that mean the model does not describe the record (module notes).
-_FAILURES = ("normal_law", "sensor_filter", "impulse_mismatch", "geometry", "second_impact")
+_FAILURES = (
+    "normal_law",
+    "sensor_filter",
+    "impulse_mismatch",
+    "ft_sign",
+    "geometry",
+    "second_impact",
+)
+#: Fn → Ft cross-talk [of Fn] an undecoupled tri-axial sensor may have (±1–3 % by its data
+#: sheet): an early Pt against the slip within it may be a leak, not Ft's sign; 0.2 % for
+#: a record decoupled with its calibration matrix.
+SLIP_LEAK = {"sensor": 0.02, "decoupled": 0.002}
 
 
 def akaike_weights(aics: dict) -> dict:
@@ -266,6 +285,19 @@ def diagnose(
             f"{fit.data.sensor.filter_order} (ΔAIC = {delta:.1f}; E* {e_k:.4g} Pa against "
             f"{judged.values['E_eff']:.4g}): check the amplifier's filter",
             SensorFilterWarning,
+        )
+    # ---- Ft's sign: friction along the slip from the start (the commonest axis mistake;
+    # its fit pulls the leaks and the impulse, named below, to explain it)
+    early = _against_slip(fit)
+    if early is not None:
+        add(
+            "ft_sign",
+            f"when Fn first reaches half its peak (t = {early[2]:.6g} s) the tangential "
+            f"percussion is {early[0]:.4g} N s (± {early[1]:.2g}): friction pushed the ball "
+            "along its slip from the start, which no passive contact does. The Ft channel has "
+            "the opposite sign convention (Ft > 0 must oppose the initial slip): load it with "
+            "axes={'Ft': '-Fx'} (pipeline fit --axes Fn=Fz,Ft=-Fx)",
+            FrictionDirectionWarning,
         )
     # ---- cross-talk
     pulls = {k: _pull(judged, k) for k in ("leak", "leak_tn")}
@@ -507,6 +539,34 @@ def _crosstalk_text(fit, k) -> str:
         f"Fy tracks Fn (Fy ≈ {k:+.2%} of Fn): the sensor's axes leak into each other; {how}. "
         "Give the sensor's cross-talk matrix to narrow it"
     )
+
+
+def _against_slip(fit):
+    """(Pt [N·s], its σ [N·s], t [s]) when the window's Fn first reaches half its peak, where
+    that Pt is against the initial slip by more than three σ (the noise's) and
+    :data:`SLIP_LEAK` of Pn there; None otherwise, without a slip or a tangential model."""
+    win = fit.data.window
+    if fit.tangential == "none" or float(fit.data.scene.slip0) == 0.0 or win.kind != "sensor":
+        return None
+    rec = win.record
+    if rec is None or "Ft" not in rec.variables:
+        return None
+    tn, fn = channel(rec, "Fn")
+    tt, ft = channel(rec, "Ft")
+    if tn.size < 3 or tt.size < 3:
+        return None
+    at = float(tn[int(np.argmax(fn >= 0.5 * np.max(fn)))])
+    k = int(np.searchsorted(tt, at, side="right"))
+    if k < 2:
+        return None
+    Pt = float(np.trapezoid(ft[:k], tt[:k]))
+    Pn = float(np.trapezoid(fn[tn <= at], tn[tn <= at]))
+    sd = float(win.noise.get("Ft", math.nan)) * float(np.median(np.diff(tt))) * math.sqrt(k)
+    decoupled = any(str(a).startswith("decouple") for a in rec.attrs)
+    floor = SLIP_LEAK["decoupled" if decoupled else "sensor"] * Pn
+    if not (math.isfinite(sd) and -Pt > 3.0 * sd + floor):
+        return None
+    return Pt, sd, at
 
 
 def impulse_mismatch(fit) -> dict:
