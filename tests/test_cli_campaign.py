@@ -151,7 +151,12 @@ def test_analyse_prints_a_readable_summary_and_writes_its_files(tmp_path, capsys
     assert "regime (Routh): sliding" in text and summary["rigid"]["regime"] == "sliding"
     e_t = summary["outcomes"]["e_t"]
     assert f"{e_t['value']:.4g} ± {e_t['std']:.2g}" in text
-    assert re.search(r"^  speed +0\.3 +scene file gr_45deg_0\.3ms\.json$", text, flags=re.M)
+    assert re.search(r"^  speed +0\.3 m/s +scene file gr_45deg_0\.3ms\.json$", text, flags=re.M)
+    # each scene value in the unit a person reads, never a power of ten (E = 210 GPa)
+    assert re.search(r"^  E +210 GPa +scene file", text, flags=re.M)
+    assert re.search(r"^  radius +12\.7 mm ", text, flags=re.M)
+    scene_block = text.split("where they came from:")[1].split("\n\n")[0]
+    assert "e+" not in scene_block and "e-" not in scene_block
     assert "max_distance" in text and "±" in text
     files = {p.name for p in (tmp_path / "a").iterdir()}
     assert files == {"summary.json", "summary.txt", "fig8_forces.png", "fig9_percussion_plane.png"}

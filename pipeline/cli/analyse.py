@@ -111,13 +111,34 @@ def _readable(a, sources: dict, checks, advice=None) -> str:
         lines += ["", "the contact fit that gave them:", as_text(sel.averaged.table())]
     lines += ["", "scene values and where they came from:"]
     for name, value in a.scene.to_dict().items():
-        lines.append(f"  {name:14s} {value:<12.6g} {sources.get(name, 'default')}")
+        unit, scale = _SCENE_UNITS.get(name, ("", 1.0))
+        shown = "∞" if value == float("inf") else f"{value * scale:.6g} {unit}".strip()
+        lines.append(f"  {name:14s} {shown:<14s} {sources.get(name, 'default')}")
     status = {k: v.get("status") for k, v in checks.summary().items() if isinstance(v, dict)}
     if status:
         lines += ["", "plausibility: " + ", ".join(f"{k} {v}" for k, v in status.items())]
     if advice is not None:
         lines += ["", f"model needed (tol {advice.tol:g}): {advice.model} — {advice.reason}"]
     return "\n".join(lines)
+
+
+#: The unit each scene field (SI) reads in on the summary, and the factor from SI to it;
+#: the others are plain numbers.
+_SCENE_UNITS = {
+    "radius": ("mm", 1e3),
+    "speed": ("m/s", 1.0),
+    "density": ("kg/m³", 1.0),
+    "mass": ("g", 1e3),
+    "E": ("GPa", 1e-9),
+    "target_E": ("GPa", 1e-9),
+    "target_radius": ("mm", 1e3),
+    "target_mass": ("kg", 1.0),
+    "angle_deg": ("°", 1.0),
+    "spin": ("rad/s", 1.0),
+    "surface_speed": ("m/s", 1.0),
+    "yield_strength": ("MPa", 1e-6),
+    "target_yield_strength": ("MPa", 1e-6),
+}
 
 
 def _write(out: Path, a, summary: dict, text: str) -> None:
