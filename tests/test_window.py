@@ -208,19 +208,23 @@ def test_a_record_is_the_dataset_xarray_builds_from_the_same_arrays():
     assert rec.Fn_measured.dtype == bool and rec.Fn.dtype == np.float64
 
 
+def ideal_hertz_record():
+    """The exact Hertz pulse from first contact, densely sampled, Ft = 0.2·Fn (simulated)."""
+    t = np.arange(-5, 2006) * (IMPACT.t_c / 2000)
+    F = hertz_pulse(t, IMPACT)["F"]
+    return make_record(
+        t,
+        {"Fn": F, "Ft": 0.2 * F, "Fy": 0.0 * F},
+        attrs={"source": "hertz_pulse", "format": "test", "kind": "simulated"},
+    )
+
+
 def test_window_on_the_sensor_model_output():
     # the project's rig model (pipeline.sensor_model.to_sensor: cross-talk, causal
     # 300 kHz Butterworth, offset, drift, 2 N noise, 16-bit ADC) applied to the exact pulse
     from pipeline.sensor_model import SENSOR_DEFAULTS, to_sensor
 
-    h = IMPACT.t_c / 2000
-    t = np.arange(-5, 2006) * h
-    F = hertz_pulse(t, IMPACT)["F"]
-    ideal = make_record(
-        t,
-        {"Fn": F, "Ft": 0.2 * F, "Fy": 0.0 * F},
-        attrs={"source": "hertz_pulse", "format": "test", "kind": "simulated"},
-    )
+    ideal = ideal_hertz_record()
     # 1 ms of baseline: the MAD noise estimate then has a s.e. of ≈1.17/√2000 ≈ 2.6 %
     rec = to_sensor(ideal, seed=5, pre_trigger=500e-6, post_trigger=500e-6)
     w = find_contact(rec)
@@ -276,14 +280,7 @@ def test_a_slow_digitiser_short_record_gives_the_window():
     from pipeline.sensor_model import SENSOR_DEFAULTS, to_sensor
 
     rate = 1e5
-    h = IMPACT.t_c / 2000
-    t = np.arange(-5, 2006) * h
-    F = hertz_pulse(t, IMPACT)["F"]
-    ideal = make_record(
-        t,
-        {"Fn": F, "Ft": 0.2 * F, "Fy": 0.0 * F},
-        attrs={"source": "hertz_pulse", "format": "test", "kind": "simulated"},
-    )
+    ideal = ideal_hertz_record()
     delay = np.sqrt(2.0) / (2 * np.pi * SENSOR_DEFAULTS["bandwidth"])
     # end_tolerance at this rate, and two periods more: at 10 samples per contact a noise
     # sample above σ beside an end (chance 0.16 each) moves it by a whole period
