@@ -218,3 +218,32 @@ def test_bad_tables_and_models_are_refused():
         fit_outcomes(KHARAZ_E_T, sc, model="rigid", vary=["beta0"])
     with pytest.raises(InputError, match="must lie in \\(0, 90\\) degrees"):
         fit_outcomes(pd.DataFrame({"angle_deg": [0.0, 10.0], "e_t": [1.0, 0.9]}), sc)
+
+
+@pytest.mark.parametrize("spin,surface_speed", [(60.0, 0.0), (0.0, 0.5), (-40.0, 0.2)])
+def test_predictions_with_a_spin_or_a_moving_surface_are_the_impacts(spin, surface_speed):
+    """A ball arriving with backspin, or the seed's disc moving under it (v_t0 = v·sin θ − u):
+    the rigid model's predictions are Routh's (pipeline.rigid.sphere_on_plane, docs/theory.md)
+    and the compliant model's the adaptive integrator's (pipeline.simulate.impact), e_t, ω
+    on the initial slip's axis and the rebound angle on the scene's — where the slip is
+    negative too (the predictions ignored u and counted Pt along +t: e_t 0.33 for 1.67)."""
+    sc = Scene(radius=0.0127, density=7850.0, E=210e9, nu=0.29, target_E=210e9,
+               target_nu=0.29, speed=0.5, mu=0.1, e=0.8, spin=spin,
+               surface_speed=surface_speed)  # fmt: skip
+    from pipeline.fit.outcomes import _predict
+
+    angles = np.array([10.0, 15.0, 40.0])
+    rg = _predict("rigid", {"mu": 0.1, "e": 0.8}, sc, angles)
+    r = rigid.sphere_on_plane(sc.replace(angle_deg=angles))
+    np.testing.assert_allclose(rg["e_t"], r.e_t, rtol=1e-12)
+    np.testing.assert_allclose(rg["omega"], r.omega, rtol=1e-12)
+    np.testing.assert_allclose(
+        rg["rebound_deg"], np.degrees(np.arctan2(r.v_t_scene, r.v_n)), rtol=1e-12
+    )
+    pred = _predict("hertz_mindlin", {"mu": 0.1, "e": 0.8, "kt_scale": 1.0}, sc, angles)
+    for k, a in enumerate(angles):
+        sim = impact(sc.replace(angle_deg=float(a))).attrs
+        # the batch path's 200 steps: |Δe_t| ~ 1e-4 (pipeline.simulate.outcomes)
+        assert pred["e_t"][k] == pytest.approx(sim["e_t"], abs=2e-3)
+        assert pred["omega"][k] == pytest.approx(sim["omega"], abs=2e-3 * abs(sim["omega"]) + 0.05)
+        assert pred["rebound_deg"][k] == pytest.approx(sim["rebound_angle_deg"], abs=0.05)

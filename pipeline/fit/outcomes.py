@@ -27,9 +27,11 @@ Each column is weighted by its 1-σ uncertainty (``<column>_err``); a column giv
 one has its σ estimated from its own residual scatter (stated in ``notes``). lmfit's
 ``Minimizer`` drives the least squares.
 
-Outcomes, for a sphere with slip s0 = v_t0 − ω0·R at first contact and Pt the tangential
-percussion: e_t = 1 − Pt/(m·v_t0), ω = ω0 + Pt·R/I, rebound angle of the centre
-atan(e_t·tan θ/e_n) (degrees from the normal).
+Outcomes, for a sphere with slip s0 = v_t0 − ω0·R at first contact (v_t0 = v·sin θ − u
+relative to a surface moving at u) and Pt the tangential percussion against it, σ the
+sign of s0: e_t = 1 − σ·Pt/(m·v_t0), ω = σ·ω0 + Pt·R/I on the slip's axis (as
+:func:`pipeline.analyse` and :func:`pipeline.simulate.impact` give it), rebound angle of
+the centre atan(e_t·v_t0/(e_n·v_n0)) (degrees from the normal, on the scene's axis).
 
 References
 ----------
@@ -221,9 +223,10 @@ class OutcomeFit:
 
 
 def _walton_pt(theta, speed, mu, e, beta0, scene):
-    """Tangential percussion Pt/m [m/s] of Walton's model (β0 = 0: Routh)."""
+    """Tangential percussion Pt/m [m/s] of Walton's model (β0 = 0: Routh), on the scene's
+    axis (against the initial slip s0 = v_t0 − ω0·R, so of the sign of s0)."""
     vn = speed * np.cos(theta)
-    vt = speed * np.sin(theta)
+    vt = speed * np.sin(theta) - float(scene.surface_speed)
     s0 = vt - float(scene.spin) * float(scene.radius)
     kap = float(scene.kappa)
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -237,18 +240,20 @@ def _predict(model, values, scene, angle_deg, speed=None):
     v = np.full(theta.shape, float(scene.speed)) if speed is None else np.asarray(speed, float)
     mu, e = values["mu"], values["e"]
     m, R, kap = float(scene.m), float(scene.radius), float(scene.kappa)
+    vt0 = v * np.sin(theta) - float(scene.surface_speed)  # relative to the surface
+    # the initial slip's sign: Pt opposes it, and ω is counted on its axis (docs/theory.md)
+    sign = np.where(vt0 - float(scene.spin) * R < 0, -1.0, 1.0)
     if model in ("rigid", "walton"):
         pt_m = _walton_pt(theta, v, mu, e, values.get("beta0", 0.0), scene)
         e_n = np.full(theta.shape, e)
     else:
         sc = scene.replace(angle_deg=np.degrees(theta), speed=v, mu=mu, e=e)
         out = impact_outcomes(sc, normal=_NORMAL, kt_scale=values["kt_scale"], n_steps=_STEPS)
-        pt_m = out.Pt_final / m
+        pt_m = sign * out.Pt_final / m  # Pt_final is on the slip's axis
         e_n = out.e_n
-    vt0 = v * np.sin(theta)
     with np.errstate(divide="ignore", invalid="ignore"):
         e_t = 1.0 - pt_m / vt0
-    omega = float(scene.spin) + pt_m * m * R / (kap * m * R**2)
+    omega = sign * (float(scene.spin) + pt_m / (kap * R))
     rebound = np.degrees(np.arctan2(e_t * vt0, e_n * v * np.cos(theta)))
     return {"e_t": e_t, "omega": omega, "rebound_deg": rebound, "e_n": e_n}
 
