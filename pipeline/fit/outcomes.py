@@ -266,7 +266,8 @@ def _critical_angle(values, scene):
     """Incidence above which Routh's rigid sphere slides throughout [deg]."""
     kap = float(scene.kappa)
     t = values["mu"] * (1.0 + values["e"]) * (1.0 + 1.0 / kap)
-    return math.degrees(math.atan(t)) if scene.spin == 0 else math.nan
+    still = scene.spin == 0 and scene.surface_speed == 0  # else it depends on the speed
+    return math.degrees(math.atan(t)) if still else math.nan
 
 
 def _read_table(table):
