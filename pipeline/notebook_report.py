@@ -65,7 +65,7 @@ from ._json import json_ready
 from .analysis import analyse
 from .errors import InputError, PipelineWarning
 from .fit import fit_contact
-from .report import findings, load_sample, scene_from_sidecar
+from .report import findings, load_sample, scene_from_sidecar, sensor_from_sidecar
 
 __all__ = [
     "TEMPLATES",
@@ -612,8 +612,10 @@ def record_report(
     with warnings.catch_warnings():
         # as in the notebook: the analysis' warnings are its notes, the fit's are in its report
         warnings.simplefilter("ignore")
-        a, notes = noted(analyse, rec, scene, n_boot=n_boot, seed=seed)
-        fit = fit_contact(rec, scene, n_boot=n_boot, seed=seed)
+        sensor = sensor_from_sidecar(record)  # the rig's, stated: as the notebook fits
+        fit_options = None if sensor is None else {"sensor": sensor}
+        a, notes = noted(analyse, rec, scene, n_boot=n_boot, seed=seed, fit_options=fit_options)
+        fit = fit_contact(rec, scene, n_boot=n_boot, seed=seed, sensor=sensor)
     r = render_record_report(
         record,
         a,

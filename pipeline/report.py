@@ -55,6 +55,7 @@ from .sidecar import (
     read_sidecar,
     sample_files,
     scene_from_sidecar,
+    sensor_from_sidecar,
     sidecar_path,
 )
 from .window import find_contact
@@ -72,6 +73,7 @@ __all__ = [
     "reproduce",
     "sample_files",
     "scene_from_sidecar",
+    "sensor_from_sidecar",
     "sidecar_path",
     "write_manifest",
 ]
@@ -193,7 +195,9 @@ def _ingest_only(path: Path) -> dict:
 
 
 def _analyse_sample(path, scene, n_boot, seed):
-    return analyse(load_sample(path), scene, n_boot=n_boot, seed=seed)
+    sensor = sensor_from_sidecar(path)  # a calibrated rig's, for the fits
+    fit_options = None if sensor is None else {"sensor": sensor}
+    return analyse(load_sample(path), scene, n_boot=n_boot, seed=seed, fit_options=fit_options)
 
 
 def _one(path: Path, n_boot: int, seed: int):

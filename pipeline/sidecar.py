@@ -25,6 +25,7 @@ __all__ = [
     "read_sidecar",
     "sample_files",
     "scene_from_sidecar",
+    "sensor_from_sidecar",
     "sidecar_path",
 ]
 
@@ -106,6 +107,28 @@ def scene_from_sidecar(path) -> Scene | None:
     if "scene" not in data:
         return None
     return Scene.from_dict(data["scene"], path=sidecar_path(path))
+
+
+def sensor_from_sidecar(path) -> dict | None:
+    """The stated sensor of a record: its sidecar's ``"sensor"`` block (bandwidth [Hz],
+    filter_order, quantum [N], crosstalk_matrix, ...; read by
+    :func:`pipeline.fit.sensor.sensor_spec`), None without one. Every fit of the record
+    takes it as stated — ``pipeline fit`` and ``pipeline analyse``, a campaign's fits and
+    a report's — so that one record gives the same numbers whichever way it is fitted.
+
+    Raises
+    ------
+    InputError
+        Naming the sidecar, where ``"sensor"`` is not an object.
+    """
+    block = read_sidecar(path).get("sensor")
+    if block is not None and not isinstance(block, dict):
+        raise InputError(
+            f"'sensor' must be an object of sensor properties (bandwidth, filter_order, "
+            f"quantum, crosstalk_matrix, ...), not {block!r}",
+            path=sidecar_path(path),
+        )
+    return block
 
 
 def load_sample(path, *, contact_only: bool = False, **options):

@@ -30,7 +30,7 @@ from pipeline.notebook_report import (
     render,
     render_record_report,
 )
-from pipeline.report import load_sample, scene_from_sidecar
+from pipeline.report import load_sample, scene_from_sidecar, sensor_from_sidecar
 from pipeline.tables import record_verdict
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -50,7 +50,8 @@ def report(tmp_path_factory):
 
 def test_record_report_states_this_records_numbers(report):
     """The notebook's parameters are those given; its verdict and tables are the library's
-    own for this record and these parameters."""
+    own for this record and these parameters (the sensor its sidecar states, as ``pipeline
+    fit`` takes it)."""
     from pipeline.io import load
 
     nb = nbformat.read(report.ipynb, as_version=4)
@@ -61,9 +62,9 @@ def test_record_report_states_this_records_numbers(report):
     assert "n_boot = 30" in injected[0].source and "seed = 3" in injected[0].source
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        rec, scene = load(RECORD), scene_from_sidecar(RECORD)
-        a = analyse(rec, scene, n_boot=30, seed=3)
-        fit = fit_contact(rec, scene, n_boot=30, seed=3)
+        rec, scene, sensor = load(RECORD), scene_from_sidecar(RECORD), sensor_from_sidecar(RECORD)
+        a = analyse(rec, scene, n_boot=30, seed=3, fit_options={"sensor": sensor})
+        fit = fit_contact(rec, scene, n_boot=30, seed=3, sensor=sensor)
     # the verdict comes first, right after the parameters
     first = nb.cells[tags.index(["injected-parameters"]) + 1]
     assert first.metadata["tags"] == ["verdict"]
@@ -185,11 +186,17 @@ def _assert_same_outputs(nb, other):
 
 
 def _analysis_and_fit(record, **options):
-    """The record analysed and fitted as a user would, independently of any report."""
-    rec, scene = load_sample(record), scene_from_sidecar(record)
+    """The record analysed and fitted as a user would, independently of any report (with
+    the sensor its sidecar states, as ``pipeline fit`` takes it)."""
+    rec, scene, sensor = (
+        load_sample(record),
+        scene_from_sidecar(record),
+        sensor_from_sidecar(record),
+    )
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        return analyse(rec, scene, **options), fit_contact(rec, scene, **options)
+        a = analyse(rec, scene, fit_options={"sensor": sensor}, **options)
+        return a, fit_contact(rec, scene, sensor=sensor, **options)
 
 
 @pytest.fixture(scope="module")

@@ -24,6 +24,7 @@ from ..errors import InputError, PipelineWarning
 from ..fit import fit_campaign
 from ..precision import reads_as
 from ..scene import Scene
+from ..sidecar import sensor_from_sidecar
 from .tasks import FIT_PARAMETERS, read_task_record
 
 __all__ = ["joint_fit", "with_joint_fit"]
@@ -53,6 +54,9 @@ def joint_fit(tasks, ds, **options) -> dict | None:
         for j, s in zip(ds["scene_json"].values, ds["status"].values, strict=True)
         if s == "ok"
     ]
+    sensors = _stated_sensors(ok)
+    if sensors is not None:
+        options = {"sensor": sensors, **options}
     fit = fit_campaign(
         records, scenes, mu_law="linear_vt0", damping="constant_e", load=read_task_record,
         **options,
@@ -71,6 +75,18 @@ def joint_fit(tasks, ds, **options) -> dict | None:
             "compare": table.to_dict("records"),
         }
     )
+
+
+def _stated_sensors(tasks) -> list | None:
+    """The sensor each task's sidecar states (as its own fit takes it,
+    :func:`pipeline.sidecar.sensor_from_sidecar`), or None where none states one. Equal
+    blocks are one object: a campaign of one rig keeps one, not one per record."""
+    seen, out = {}, []
+    for t in tasks:
+        block = sensor_from_sidecar(t.path)
+        key = json.dumps(block, sort_keys=True)
+        out.append(seen.setdefault(key, block))
+    return None if all(b is None for b in out) else out
 
 
 def with_joint_fit(ds, tasks, **options):

@@ -70,11 +70,11 @@ def _how(text):
 def run(args) -> int:
     from ..advice import advice_for
     from ..analysis import analyse
-    from ..sidecar import read_sidecar
+    from ..sidecar import sensor_from_sidecar
 
     record = read_record(args.file, args)
     scene, sources = read_scene(args.file, args.scene, record)
-    sensor = read_sidecar(args.file).get("sensor")  # a calibrated rig's, for the fits
+    sensor = sensor_from_sidecar(args.file)  # a calibrated rig's, for the fits
     with log_warnings():
         a = analyse(
             record,

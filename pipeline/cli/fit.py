@@ -45,14 +45,14 @@ def register(sub) -> None:
 
 def _sensor(args):
     from ..errors import InputError
-    from ..sidecar import read_sidecar
+    from ..sidecar import sensor_from_sidecar
 
     if args.sensor is not None:
         try:
             return json.loads(args.sensor.read_text(encoding="utf-8"))
         except (OSError, ValueError, UnicodeDecodeError) as exc:
             raise InputError(f"cannot read the sensor file: {exc}", path=args.sensor) from None
-    return read_sidecar(args.file).get("sensor")
+    return sensor_from_sidecar(args.file)
 
 
 def run(args) -> int:

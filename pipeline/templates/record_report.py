@@ -37,7 +37,7 @@ import warnings
 from IPython.display import Markdown, display
 
 from pipeline import Scene, analyse, figures, fit_contact
-from pipeline.report import findings, load_sample, scene_from_sidecar
+from pipeline.report import findings, load_sample, scene_from_sidecar, sensor_from_sidecar
 from pipeline.tables import (
     fit_notes,
     implied_table,
@@ -53,12 +53,15 @@ rec = load_sample(record, **load_options)
 scene = Scene.from_dict(json.loads(scene_json)) if scene_json else scene_from_sidecar(record)
 if scene is None:
     raise ValueError(f"{record}: no scene; give scene_json or put a sidecar beside the record")
+sensor = sensor_from_sidecar(record)  # the rig's sensor as its sidecar states it, or None
+options = dict(analyse_options)
+fit_options = {"sensor": sensor, **options.pop("fit_options", {})}
 with warnings.catch_warnings(record=True) as caught:
     warnings.simplefilter("always")
-    a = analyse(rec, scene, n_boot=n_boot, seed=seed, **analyse_options)
+    a = analyse(rec, scene, n_boot=n_boot, seed=seed, fit_options=fit_options, **options)
 with warnings.catch_warnings(record=True):  # the fit's warnings are in its verdict
     warnings.simplefilter("always")
-    fit = fit_contact(rec, scene, n_boot=n_boot, seed=seed)
+    fit = fit_contact(rec, scene, n_boot=n_boot, seed=seed, sensor=sensor)
 display(Markdown(record_verdict(a, fit)))
 
 # %% [markdown]
