@@ -143,7 +143,9 @@ def test_advise_names_the_turn_where_it_exceeds_the_tolerance():
 def test_fit_flags_the_turn_on_a_record_sliding_over_a_cap():
     """A record made with the line of centres turning (the misspecification suite's own
     integrator, a sensor with the first contact's axes): the fit names the geometry with a
-    GeometryWarning; the same record told it lies on a flat target is not flagged so."""
+    GeometryWarning, and says the forces fit (the residuals at the noise level: it is the
+    parameters' reading the turn biases, not the model's match to the record); the same
+    record told it lies on a flat target is not flagged so."""
     from benchmarks._misspec import CASES
     from pipeline.fit import fit_contact
 
@@ -153,6 +155,10 @@ def test_fit_flags_the_turn_on_a_record_sliding_over_a_cap():
     assert "geometry" in fit.verdict["causes"] and not fit.verdict["ok"]
     g = fit.verdict["geometry"]
     assert g["exceeds"] and g["e_n"] > g["tol"]
+    assert fit.misfit.ok  # the precondition: χ²_ν ≈ 1, no structure in the residuals
+    words = fit.table().attrs["verdict"]
+    assert "fits the record's forces to the noise level" in words, words
+    assert "does not describe" not in words and "forces fit" in fit.report()
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         flat = fit_contact(

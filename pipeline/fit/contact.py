@@ -347,7 +347,7 @@ class ContactFit(FitResult):
             + (
                 "not diagnosed"
                 if self.verdict is None
-                else ("ok" if self.verdict["ok"] else "the model does not describe the record")
+                else self._verdict_state()
                 + (
                     f" — causes: {', '.join(self.verdict['causes'])}"
                     if self.verdict["causes"]
@@ -376,6 +376,15 @@ class ContactFit(FitResult):
         lines += ["", "lmfit report:", fit_report(self.params)]
         return "\n".join(lines)
 
+    def _verdict_state(self) -> str:
+        """The verdict in three words: ok; the forces fit (the residuals at the noise level)
+        but a cause biases the parameters; or the model misses the record."""
+        if self.verdict["ok"]:
+            return "ok"
+        if self.misfit is not None and self.misfit.ok:
+            return "the forces fit, the parameters do not hold as fitted"
+        return "the model does not describe the record"
+
     def _verdict_words(self) -> tuple:
         """(the verdict in a sentence, [each cause's message]) (:meth:`table`)."""
         v = self.verdict
@@ -395,13 +404,23 @@ class ContactFit(FitResult):
         else:
             modelled = ("coloured_noise", "sensor_dynamics", "spikes")
             missed = [w for c, w in zip(causes, said, strict=True) if c not in modelled]
-            if self.misfit is not None and not self.misfit.ok:
-                missed += _misfit_words(self.misfit)
-            text = (
-                f"The model ({model}) does not describe the record: "
-                + ("; ".join(missed) or "the misfit test fails")
-                + "."
-            )
+            if self.misfit is not None and self.misfit.ok:
+                # the residuals are at the noise level: what fails is how the parameters
+                # read (a turning normal, a better law, a traded impulse), not the forces
+                text = (
+                    f"The model ({model}) fits the record's forces to the noise level "
+                    f"(χ²_ν = {redchi:.3g}), but its parameters do not hold as fitted: "
+                    + ("; ".join(missed) or "see the causes")
+                    + "."
+                )
+            else:
+                if self.misfit is not None:
+                    missed += _misfit_words(self.misfit)
+                text = (
+                    f"The model ({model}) does not describe the record: "
+                    + ("; ".join(missed) or "the misfit test fails")
+                    + "."
+                )
         messages = v.get("messages", {})
         return text, [
             f"{_CAUSE_WORDS.get(c, model_words(c))}: {messages[c]}" for c in causes if c in messages
