@@ -78,7 +78,7 @@ import numpy as np
 
 from ._json import json_ready
 from .errors import InputError
-from .scene import Scene
+from .scene import Scene, how_to_give
 from .simulate.curved import geometry_error
 
 __all__ = [
@@ -276,7 +276,7 @@ def advise(
     if scene.E is None or scene.nu is None:
         raise InputError(
             "advise compares the rigid model with the compliant ones, which need the ball's "
-            "elastic constants: give Scene(E=..., nu=...)"
+            "elastic constants: give " + how_to_give(("E", "nu"))
         )
     v_y, body = _yield_speed(scene)
     yields = v_y is not None and float(scene.v_n0) > v_y

@@ -40,6 +40,13 @@ def _arr(x):
     return np.asarray(x, dtype=float)
 
 
+def how_to_give(names) -> str:
+    """How a user gives the scene fields ``names``, in Python and on the command line."""
+    python = "Scene(" + ", ".join(f"{n}=..." for n in names) + ")"
+    keys = " and ".join(f'"{n}"' for n in names)
+    return f"{python} in Python, or {keys} in the scene's JSON (the record's sidecar, --scene)"
+
+
 @dataclass(frozen=True)
 class Scene:
     """One impact of a ball on a target.
@@ -202,14 +209,14 @@ class Scene:
         if missing:
             raise InputError(
                 f"{why} needs {', '.join(missing)}, which the scene does not give: set "
-                + ", ".join(f"Scene({n}=...)" for n in missing)
+                + how_to_give(missing)
                 + " (pipeline.analyse takes them from the record when they are unknown)"
             )
 
     def _need_elastic(self):
         if self.E is None or self.nu is None:
             raise InputError(
-                "this model needs the ball's elastic constants: give Scene(E=..., nu=...)"
+                "this model needs the ball's elastic constants: give " + how_to_give(("E", "nu"))
             )
 
     @property

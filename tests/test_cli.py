@@ -30,6 +30,20 @@ def _run(capsys, *argv):
     return code, out, err
 
 
+def test_a_scene_without_elastic_constants_is_told_how_to_give_them_on_the_command_line(
+    tmp_path, capsys
+):
+    """``pipeline fit`` on a record whose sidecar's scene has no E: one line, exit 2, naming
+    the scene's JSON keys a command-line user writes, not only Python's Scene(E=...)."""
+    shutil.copy(MAIN, tmp_path / MAIN.name)
+    side = json.loads(MAIN.with_suffix(".json").read_text(encoding="utf-8"))
+    del side["scene"]["E"]
+    (tmp_path / MAIN.with_suffix(".json").name).write_text(json.dumps(side), encoding="utf-8")
+    code, out, err = _run(capsys, "fit", tmp_path / MAIN.name)
+    assert code == 2 and out == "" and len(err.strip().splitlines()) == 1, err
+    assert '"E" and "nu" in the scene\'s JSON' in err, err
+
+
 def test_a_hint_the_fit_left_out_says_which_way_the_aic_moved(capsys):
     """Garland & Rogers' 30° record (the sample) hints at a mode its fit does not keep: the
     note says how the AIC moved, never that fitting the mode "lowered" it by a negative
