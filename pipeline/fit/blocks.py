@@ -26,14 +26,19 @@ J_{l,i} + \lambda D_{l,i})^{-1}`, the reduced system for the shared step is
 1963). An iteration evaluates every record at the trial step, with its Jacobian blocks
 when the last step was taken (most are, and then the blocks of the next step come in the
 same pass over the records as its χ²), its residuals only after a refused step; the
-records go in chunks, through :func:`pipeline.fit.engine.local_jacobians`, so the memory
+records go in chunks, through :func:`pipeline.fit.engine.local_derivatives`, so the memory
 stays that of a chunk, and the solves are small and dense: time linear in the records,
 where a dense Jacobian over all records' samples grows with their square (the records' own
 parameters are columns of it) and its factorisation with their cube. Of each record the
-solver keeps only its blocks (a few dozen numbers), its χ² and its share of the misfit test
-(:class:`pipeline.fit.procedure.MisfitPart`), never its residuals; the records themselves
-may come a chunk at a time from a :class:`pipeline.fit.store.RecordStore`, so the memory
-does not grow with the records beyond those few numbers.
+solver keeps only arrays of a few numbers, never its residuals nor an object of its own:
+its blocks H_sl, H_ll and g_l (H_ss and g_s only summed over the records), its χ² and its
+share of the misfit test (:class:`pipeline.fit.procedure.MisfitParts`: (records ×
+channels) arrays) — some 160 bytes, for the current step and for a trial while it is
+judged — and, while an evaluation runs, its local parameters and their derivatives by θ
+for the local parameters θ moves (a record's systematics do not: five columns of the
+twenty-one). The records themselves may come a chunk at a time from a
+:class:`pipeline.fit.store.RecordStore`, so the memory does not grow with the records
+beyond those few numbers.
 
 With an ``executor`` (a dask client's, on a cluster), each evaluation sends every chunk of
 records as the store wrote it, with its rows of local parameters and their derivatives.
@@ -60,8 +65,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .engine import local_jacobians
-from .procedure import misfit_part
+from .engine import local_derivatives
+from .procedure import MisfitParts
 from .store import CHUNK, chunk_count, chunks_of, in_order, load_chunk
 
 __all__ = ["BlockCovariance", "BlockResult", "solve_blocks", "CHUNK"]
@@ -77,8 +82,8 @@ class BlockResult:
     theta : numpy.ndarray — every global parameter at the optimum
     chi2 : float
     chi2_records : numpy.ndarray — each record's share of χ² there
-    misfit_parts : list of pipeline.fit.procedure.MisfitPart — each record's share of the
-        misfit test there
+    misfit_parts : pipeline.fit.procedure.MisfitParts — each record's share of the misfit
+        test there (arrays over the records; a sequence of MisfitPart)
     cov : BlockCovariance — covariance of the varied parameters (θ order), unscaled
     nfev, njev : int — residual and Jacobian evaluations
     success : bool; message : str
@@ -87,7 +92,7 @@ class BlockResult:
     theta: np.ndarray
     chi2: float
     chi2_records: np.ndarray
-    misfit_parts: list
+    misfit_parts: MisfitParts
     cov: BlockCovariance
     nfev: int
     njev: int
@@ -112,42 +117,58 @@ def _moved(p, b):
 
 
 def _rows(design, theta) -> np.ndarray:
-    """Every record's local parameters at θ, (R, L)."""
-    return np.stack(design.local(theta[None, :]))[:, 0, :]
+    """Every record's local parameters at θ, (R, L) (a design may give them as one
+    (R, 1, L) array, or as a list of (1, L) arrays)."""
+    return np.asarray(design.local(theta[None, :]))[:, 0, :]
 
 
 def _dlocal(design, theta, shared, own, scale):
-    """Every record's local parameters (R, L) and their derivatives ∂P_i/∂θ (R, L, p) by
-    its columns (shared, then own), by forward differences of ``design.local`` — every
-    record's own parameters of one kind perturbed at once (each moves only its own
-    record)."""
+    """Every record's local parameters (R, L) and their derivatives ∂P_i/∂θ by its columns
+    (shared, then own), by forward differences of ``design.local`` — every record's own
+    parameters of one kind perturbed at once (each moves only its own record). The
+    derivatives are kept for the local parameters that move only: (R, m, p) and their
+    indices ``cols`` (m,) among the L (the others are zero: a record's systematics, its
+    speed when fixed)."""
     base = _rows(design, theta)
-    p_o = own.shape[1]
-    D = np.zeros(base.shape + (shared.size + p_o,))
-    for j, k in enumerate(shared):
-        h = 1e-7 * max(abs(theta[k]), scale[k])
-        th = theta.copy()
-        th[k] += h
-        D[:, :, j] = _moved(_rows(design, th), base) / h
-    for j in range(p_o):
-        ks = own[:, j]
-        h = 1e-7 * np.maximum(np.abs(theta[ks]), scale[ks])
-        th = theta.copy()
-        th[ks] += h
-        D[:, :, shared.size + j] = _moved(_rows(design, th), base) / h[:, None]
-    return base, D
+
+    def steps():  # per column of θ: (θ + h, h)
+        for k in shared:
+            h = 1e-7 * max(abs(theta[k]), scale[k])
+            th = theta.copy()
+            th[k] += h
+            yield th, h
+        for j in range(own.shape[1]):
+            ks = own[:, j]
+            h = 1e-7 * np.maximum(np.abs(theta[ks]), scale[ks])
+            th = theta.copy()
+            th[ks] += h
+            yield th, h[:, None]
+
+    parts = []  # per column of θ: the local columns it moves and their derivatives
+    for th, h in steps():
+        d = _moved(_rows(design, th), base)
+        c = np.flatnonzero(np.any(d != 0, axis=0))
+        parts.append((c, d[:, c] / h))
+    cols = np.unique(np.concatenate([c for c, _ in parts])) if parts else np.zeros(0, int)
+    D = np.zeros((base.shape[0], cols.size, len(parts)))
+    for j, (c, d) in enumerate(parts):
+        D[:, np.searchsorted(cols, c), j] = d
+    return base, D, cols
 
 
 @dataclass
 class _Evaluation:
     """One evaluation of every record at θ: χ², each record's share, and (with the
-    Jacobian) the normal-equation blocks per record — H_ss (p_s, p_s), H_sl (p_s, p_o),
-    H_ll (p_o, p_o), g_s (p_s), g_l (p_o) — and each record's share of the misfit test."""
+    Jacobian) the normal-equation blocks — per record H_sl (R, p_s, p_o), H_ll (R, p_o,
+    p_o) and g_l (R, p_o); H_ss (p_s, p_s) and g_s (p_s) summed over the records, in their
+    order, which is all the step and the covariance read of them — and each record's share
+    of the misfit test (:class:`pipeline.fit.procedure.MisfitParts`): arrays, a few dozen
+    numbers a record."""
 
     chi2: float
     records: np.ndarray
     blocks: dict | None = None
-    parts: list | None = None
+    parts: MisfitParts | None = None
 
 
 def _evaluate(
@@ -157,9 +178,9 @@ def _evaluate(
     (:class:`_Evaluation`)."""
     R = len(datas)
     if jacobian:
-        rows, D = _dlocal(design, theta, shared, own, scale)
+        rows, D, cols = _dlocal(design, theta, shared, own, scale)
     else:
-        rows, D = _rows(design, theta), None
+        rows, D, cols = _rows(design, theta), None, None
     ps = shared.size
 
     def jobs():  # what travels to an executor (module notes)
@@ -167,30 +188,34 @@ def _evaluate(
             if executor is not None:
                 chunk = np.frombuffer(chunk, dtype=np.uint8)
             d = None if D is None else D[a : a + n].copy()
-            yield model, chunk, rows[a : a + n].copy(), d, ps
+            yield model, chunk, rows[a : a + n].copy(), d, cols, ps
 
     chi2 = np.empty(R)
     blocks, parts = None, None
     if jacobian:
-        blocks, parts = _empty_blocks(R, ps, D.shape[2] - ps), [None] * R
+        blocks, parts = _empty_blocks(R, ps, D.shape[2] - ps), MisfitParts.empty(R, model.channels)
     a = 0
     for c2, b, p in in_order(executor, _chunk, jobs()):
         n = c2.size
         chi2[a : a + n] = c2
         if jacobian:
-            for k in blocks:
+            for k in _OWN:
                 blocks[k][a : a + n] = b[k]
-            parts[a : a + n] = p
+            for k in _SUMMED:
+                for x in b[k]:  # one record after another, as a sum over (R, ...) adds them
+                    blocks[k] += x
+            parts.put(a, p)
         a += n
     return _Evaluation(float(sum(chi2.tolist())), chi2, blocks, parts)
 
 
-def _chunk(model, chunk, rows, D, ps):
+def _chunk(model, chunk, rows, D, cols, ps):
     """One chunk of records at their local parameters ``rows`` (n, L): each record's χ²,
-    and with their derivatives ``D`` (n, L, p_s + p_o) by the global parameters (through
-    the local parameters they move) its normal-equation blocks and misfit share (module
-    notes). ``chunk``: the records, or a store's chunk as written (its bytes, as a uint8
-    array); the work of :func:`_evaluate`, here or in another process."""
+    and with their derivatives ``D`` (n, m, p_s + p_o) by the global parameters of the
+    local parameters ``cols`` (m,) that move (:func:`_dlocal`) its normal-equation blocks
+    and misfit share (module notes). ``chunk``: the records, or a store's chunk as written
+    (its bytes, as a uint8 array); the work of :func:`_evaluate`, here or in another
+    process."""
     if not isinstance(chunk, list):
         chunk = load_chunk(chunk)
     Ps = [P[None, :] for P in rows]
@@ -198,26 +223,39 @@ def _chunk(model, chunk, rows, D, ps):
     if D is None:
         r, _ = model.residuals(chunk, Ps)
         return np.array([float(x[0] @ x[0]) for x in r]), None, None
-    blocks, parts = _empty_blocks(n, ps, D.shape[2] - ps), [None] * n
-    active = [np.flatnonzero(m) for m in np.any(D != 0, axis=2)]
-    r, Jl, _ = local_jacobians(model, chunk, Ps, active)
+    blocks = {k: np.empty((n,) + v) for k, v in _shapes(ps, D.shape[2] - ps).items()}
+    parts = MisfitParts.empty(n, model.channels)
+    moves = np.any(D != 0, axis=2)  # (n, m): the local parameters each record's θ moves
+    r, Jl, _ = local_derivatives(model, chunk, Ps, [cols[m] for m in moves])
     for i, (d, ri, Ji) in enumerate(zip(chunk, r, Jl, strict=True)):
         ri = ri[0]
-        J = Ji[0][active[i]].T @ D[i][active[i]]  # (n_i, p_s + p_o)
+        J = Ji[0].T @ D[i][moves[i]]  # (n_i, p_s + p_o)
         Js, Jo = J[:, :ps], J[:, ps:]
         blocks["ss"][i] = Js.T @ Js
         blocks["sl"][i] = Js.T @ Jo
         blocks["ll"][i] = Jo.T @ Jo
         blocks["gs"][i] = Js.T @ ri
         blocks["gl"][i] = Jo.T @ ri
-        parts[i] = misfit_part(ri, d)
-    return np.array([p.chi2 for p in parts]), blocks, parts
+        parts.set(i, ri, d)
+    return parts.chi2.copy(), blocks, parts
+
+
+#: The blocks kept a record (:class:`_Evaluation`), and those summed over the records.
+_OWN, _SUMMED = ("sl", "ll", "gl"), ("ss", "gs")
+
+
+def _shapes(ps, po) -> dict:
+    """Each normal-equation block's shape for one record (:class:`_Evaluation`)."""
+    return {"ss": (ps, ps), "sl": (ps, po), "ll": (po, po), "gs": (ps,), "gl": (po,)}
 
 
 def _empty_blocks(n, ps, po) -> dict:
-    """Room for the normal-equation blocks of ``n`` records (:class:`_Evaluation`)."""
-    shapes = {"ss": (ps, ps), "sl": (ps, po), "ll": (po, po), "gs": (ps,), "gl": (po,)}
-    return {k: np.empty((n,) + v) for k, v in shapes.items()}
+    """Room for the normal-equation blocks of ``n`` records, the summed ones at zero
+    (:class:`_Evaluation`)."""
+    shapes = _shapes(ps, po)
+    out = {k: np.empty((n,) + shapes[k]) for k in _OWN}
+    out.update({k: np.zeros(shapes[k]) for k in _SUMMED})
+    return out
 
 
 def _inverse(H, lam=0.0):
@@ -240,9 +278,9 @@ def _inverse(H, lam=0.0):
 def _step(B, lam):
     """The damped Gauss–Newton step (δs, δl per record) from the blocks (module notes)."""
     M, _ = _inverse(B["ll"], lam)
-    Hss = B["ss"].sum(0)
+    Hss = B["ss"]
     S = Hss + lam * np.diag(np.diag(Hss)) - np.einsum("rsa,rab,rtb->st", B["sl"], M, B["sl"])
-    b = -(B["gs"].sum(0) - np.einsum("rsa,rab,rb->s", B["sl"], M, B["gl"]))
+    b = -(B["gs"] - np.einsum("rsa,rab,rb->s", B["sl"], M, B["gl"]))
     Sinv, _ = _inverse(S[None], 0.0)
     ds = Sinv[0] @ b
     dl = -np.einsum("rab,rb->ra", M, B["gl"] + np.einsum("rsa,s->ra", B["sl"], ds))
@@ -270,7 +308,6 @@ class BlockCovariance:
 
     def __init__(self, Css, X, M, where, bad, scale=1.0):
         self._Css, self._X, self._M, self._where = Css, X, M, where
-        self._XC = np.einsum("ras,st->rat", X, Css)  # X_i C_ss   (R, p_o, p_s)
         self._bad, self._scale = bad, float(scale)
         self.shape = (where.shape[1], where.shape[1])
 
@@ -285,6 +322,10 @@ class BlockCovariance:
         a, b = (int(i) for i in key)
         return self._scale * self._entry(a, b)
 
+    def _xc_row(self, r, i):
+        """Row i of X_r C_ss (made when read: kept, it would be as large as X)."""
+        return self._X[r, i] @ self._Css
+
     def _entry(self, a, b):
         """The unscaled entry (a, b): ``_where`` holds, for each varied parameter, its kind
         (0 shared, 1 a record's own, -1 neither), then the shared index or the record and
@@ -295,11 +336,11 @@ class BlockCovariance:
         if ka == 1 and kb == 1:
             if self._bad[ra] or self._bad[rb]:
                 return np.nan
-            v = self._XC[ra, ia] @ self._X[rb, ib]
+            v = self._xc_row(ra, ia) @ self._X[rb, ib]
             return v + (self._M[ra, ia, ib] if ra == rb else 0.0)
         if ka == 1 or kb == 1:
             r, i, k = (ra, ia, rb) if ka == 1 else (rb, ib, ra)
-            return np.nan if self._bad[r] else -self._XC[r, i, k]
+            return np.nan if self._bad[r] else -self._xc_row(r, i)[k]
         return self._Css[ra, rb]
 
     def toarray(self) -> np.ndarray:
@@ -316,7 +357,7 @@ def _covariance(B, shared, own, varied_index):
     """The covariance of the varied parameters (in ``varied_index`` order, increasing) from
     the blocks at λ = 0, as a :class:`BlockCovariance` (module notes)."""
     M, ok = _inverse(B["ll"], 0.0)
-    S = B["ss"].sum(0) - np.einsum("rsa,rab,rtb->st", B["sl"], M, B["sl"])
+    S = B["ss"] - np.einsum("rsa,rab,rtb->st", B["sl"], M, B["sl"])
     Css = _inverse(S[None], 0.0)[0][0]
     X = np.einsum("rab,rsb->ras", M, B["sl"])  # M_i H_ls,i   (R, p_o, p_s)
     varied_index = np.asarray(varied_index, dtype=int)
@@ -381,16 +422,18 @@ def solve_blocks(
             drop = (ev.chi2 - ev_t.chi2) / max(ev.chi2, 1e-300)
             theta = trial
             lam = max(lam / 10.0, 1e-9)
-            if not ahead:
+            if not ahead:  # the step is taken: the blocks before it are not needed again
+                ev = ev_t = None
                 ev_t = _evaluate(model, datas, design, theta, shared, own, scale, True, executor)
                 njev += 1
-            ev, ahead = ev_t, True
+            ev, ev_t, ahead = ev_t, None, True
             if lam <= 1e-3 and (drop < _TOL or moved < _TOL):  # MINPACK's ftol or xtol
                 message, success = "converged: χ² or the parameters no longer move", True
                 break
         else:
             ahead = False  # until a step is taken, trials cost their residuals only
-            if abs(ev_t.chi2 - ev.chi2) <= _TOL * ev.chi2:  # at the minimum, within the tolerance
+            chi2_t, ev_t = ev_t.chi2, None  # a refused trial's blocks are not kept
+            if abs(chi2_t - ev.chi2) <= _TOL * ev.chi2:  # at the minimum, within the tolerance
                 message, success = "converged: no step lowers χ² by more than the tolerance", True
                 break
             lam *= 10.0

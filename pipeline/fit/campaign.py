@@ -156,7 +156,8 @@ class _Campaign(Design):
     def local(self, theta):
         """Every record's local parameters, vectorised over records: e(α) for the
         Hunt–Crossley family computed once for all records and rows (one call of the law's
-        closed form, not one per record)."""
+        closed form, not one per record). One (R, B, L) array: record i's (B, L) rows are
+        its item i (no array object a record)."""
         theta = np.atleast_2d(theta)
         B, R = theta.shape[0], len(self.summary.names)
         if self._cols is None:
@@ -196,7 +197,7 @@ class _Campaign(Design):
             a, b = theta[:, self.mu[0]][None, :], theta[:, self.mu[1]][None, :]
             P[:, :, 2] = np.maximum(a + b * self.vt0[:, None], 0.0)
         P[:, :, 3] = theta[:, c["kt"]].T if self.kt else 1.0
-        return list(P)
+        return P
 
 
 @dataclass(frozen=True, eq=False)
@@ -233,7 +234,7 @@ class CampaignFit(FitResult):
         import pandas as pd
 
         sm = self.problem.design.summary
-        P = np.stack(self.problem.design.local(self.theta[None, :]))[:, 0, :]  # (R, L)
+        P = np.asarray(self.problem.design.local(self.theta[None, :]))[:, 0, :]  # (R, L)
         return pd.DataFrame(
             {
                 "record": list(self.records),
@@ -426,9 +427,9 @@ class _Parameters:
         return repr(self._params())
 
 
-def _joint(model, store, design, init, vary, executor=None) -> dict:
-    """The joint fit by the block solver (:mod:`pipeline.fit.blocks`), as the fields of a
-    :class:`CampaignFit` (those :func:`pipeline.fit.procedure.run_fit` gives a dense one)."""
+def _start_vector(design, init, vary) -> tuple:
+    """(θ₀, varied, lower, upper): arrays over the global parameters from the starting
+    values ``init`` (name → value) and the names in ``vary``, θ₀ clipped to the bounds."""
     names = design.names
     sm = design.summary
     vary = set(vary)
@@ -446,6 +447,16 @@ def _joint(model, store, design, init, vary, executor=None) -> dict:
         if varied[i]:
             lower[i], upper[i] = lo, hi
         theta0[i] = float(np.clip(init[n], lower[i], upper[i]))
+    return theta0, varied, lower, upper
+
+
+def _joint(model, store, design, start, executor=None) -> dict:
+    """The joint fit by the block solver (:mod:`pipeline.fit.blocks`) from ``start``
+    (:func:`_start_vector`), as the fields of a :class:`CampaignFit` (those
+    :func:`pipeline.fit.procedure.run_fit` gives a dense one)."""
+    names = design.names
+    sm = design.summary
+    theta0, varied, lower, upper = start
     res = solve_blocks(model, store, design, theta0, varied, lower, upper, executor=executor)
     n = int(sm.n_data.sum())
     k = int(varied.sum())
@@ -741,8 +752,10 @@ def fit_campaign(
         if solver == "dense":  # every record in memory: the dense path is for a few
             kw = run_fit(model, list(store), design, init, vary, [], n_boot=n_boot, seed=seed)
             kw["problem"] = _Joint(design, store)
-        else:
-            kw = _joint(model, store, design, init, vary, executor)
+        else:  # the names and values of every record's parameters not kept through the fit
+            start = _start_vector(design, init, vary)
+            del init, vary
+            kw = _joint(model, store, design, start, executor)
         kw.update(
             mu_law=ml,
             damping=dm,

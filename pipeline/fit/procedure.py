@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import math
 import warnings
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -43,6 +44,7 @@ __all__ = [
     "misfit_of",
     "Misfit",
     "MisfitPart",
+    "MisfitParts",
     "MISFIT_Z",
 ]
 
@@ -314,13 +316,104 @@ def misfit_part(r, data) -> MisfitPart:
     )
 
 
+class MisfitParts(Sequence):
+    """Many records' shares of the misfit test as arrays, so that a fit over many records
+    keeps no Python object a record (:func:`pipeline.fit.blocks.solve_blocks`): a sequence
+    of :class:`MisfitPart`, made on access.
+
+    Parameters
+    ----------
+    channels : tuple of str — the channels of every record, in order
+    chi2 : numpy.ndarray (R,) — each record's Σr²
+    sizes, n_noise : numpy.ndarray (R, C) of int — each channel's samples, and the samples
+        its σ was measured on (0: not measured)
+    runs : numpy.ndarray (R, C) — each channel's runs-test z
+    """
+
+    def __init__(self, channels, chi2, sizes, n_noise, runs):
+        self.channels = tuple(channels)
+        self.chi2, self.sizes, self.n_noise, self.runs = chi2, sizes, n_noise, runs
+
+    @classmethod
+    def empty(cls, n: int, channels) -> MisfitParts:
+        """Room for ``n`` records' shares (:meth:`set` fills them)."""
+        c = len(channels)
+        ints = np.zeros((n, c), dtype=np.int32)
+        return cls(channels, np.zeros(n), ints, ints.copy(), np.zeros((n, c)))
+
+    def set(self, i, r, data) -> None:
+        """Record ``i``'s share, of its weighted residuals ``r`` (:func:`misfit_part`)."""
+        if tuple(c.name for c in data.channels) != self.channels:
+            raise ValueError(f"record {i}'s channels are not {self.channels}")
+        p = misfit_part(r, data)
+        self.chi2[i], self.sizes[i], self.n_noise[i] = p.chi2, p.sizes, p.n_noise
+        self.runs[i] = [z for _, z in p.runs]
+
+    def put(self, a, parts: MisfitParts) -> None:
+        """``parts`` (of records a, a + 1, ...) in their place."""
+        b = a + len(parts)
+        self.chi2[a:b], self.sizes[a:b] = parts.chi2, parts.sizes
+        self.n_noise[a:b], self.runs[a:b] = parts.n_noise, parts.runs
+
+    def __len__(self) -> int:
+        return self.chi2.size
+
+    def __getitem__(self, i) -> MisfitPart:
+        if isinstance(i, slice):
+            return [self[j] for j in range(*i.indices(len(self)))]
+        return MisfitPart(
+            float(self.chi2[i]),
+            tuple(int(x) for x in self.sizes[i]),
+            tuple(int(x) for x in self.n_noise[i]),
+            tuple(zip(self.channels, (float(z) for z in self.runs[i]), strict=True)),
+        )
+
+    @property
+    def nbytes(self) -> int:
+        """Bytes of the arrays."""
+        return sum(a.nbytes for a in (self.chi2, self.sizes, self.n_noise, self.runs))
+
+
+class _RunsZ(Mapping):
+    """The runs-test z of many records' channels as :attr:`Misfit.runs_z` gives them
+    (``"i:name"`` → z, record-major), read from a (R, C) array: no entry a channel kept."""
+
+    def __init__(self, channels, runs):
+        self._channels, self._runs = tuple(channels), runs
+
+    def _key(self, i, c):
+        return f"{i}:{self._channels[c]}"
+
+    def __getitem__(self, key):
+        i, sep, name = str(key).partition(":")
+        if not sep or not i.isdigit() or name not in self._channels:
+            raise KeyError(key)
+        i = int(i)
+        if i >= len(self._runs) or self._key(i, self._channels.index(name)) != key:
+            raise KeyError(key)
+        return float(self._runs[i, self._channels.index(name)])
+
+    def __iter__(self):
+        R, C = self._runs.shape
+        return (self._key(i, c) for i in range(R) for c in range(C))
+
+    def __len__(self) -> int:
+        return self._runs.size
+
+    def __repr__(self):
+        return f"<runs-test z of {len(self)} channels>"
+
+
 #: Channels whose runs test failed named one by one in a misfit's reasons; beyond, a count.
 _RUNS_LISTED = 4
 
 
 def misfit_of(parts, k_free, nuisance) -> Misfit:
-    """The misfit test (:func:`misfit`) from each record's :class:`MisfitPart`, with
-    ``k_free`` free and ``nuisance`` baseline parameters."""
+    """The misfit test (:func:`misfit`) from each record's :class:`MisfitPart` (or the
+    records' :class:`MisfitParts`, without an object a record), with ``k_free`` free and
+    ``nuisance`` baseline parameters."""
+    if isinstance(parts, MisfitParts) and len(parts) > 1:
+        return _misfit_of_arrays(parts, k_free, nuisance)
     n = sum(sum(p.sizes) for p in parts)
     nu = max(n - k_free - nuisance, 1)
     redchi = sum(p.chi2 for p in parts) / nu
@@ -332,18 +425,50 @@ def misfit_of(parts, k_free, nuisance) -> Misfit:
             if n_noise:
                 var += share * share * _MAD_VAR / n_noise
             runs[name if len(parts) == 1 else f"{i}:{name}"] = z
+    long = [(rz, key) for key, rz in runs.items() if np.isfinite(rz) and rz < -MISFIT_Z]
+    return _misfit(redchi, var, runs, long)
+
+
+def _misfit_of_arrays(parts, k_free, nuisance) -> Misfit:
+    """:func:`misfit_of` of :class:`MisfitParts`: the same sums in the same order, and only
+    the channels whose signs run long named (their keys made for those alone)."""
+    n = int(parts.sizes.sum())
+    nu = max(n - k_free - nuisance, 1)
+    redchi = sum(parts.chi2.tolist()) / nu
+    var = 2.0 / nu
+    sizes, noise = parts.sizes.ravel().tolist(), parts.n_noise.ravel().tolist()
+    for size, n_noise in zip(sizes, noise, strict=True):  # record after record, as above
+        if n_noise:
+            share = size / n
+            var += share * share * _MAD_VAR / n_noise
+    runs = _RunsZ(parts.channels, parts.runs)
+    with np.errstate(invalid="ignore"):
+        flat = np.flatnonzero(np.isfinite(parts.runs) & (parts.runs < -MISFIT_Z))
+    if flat.size > _RUNS_LISTED:  # only the worst are named: the ties at the fourth too
+        z = parts.runs.ravel()[flat]
+        flat = flat[z <= np.partition(z, _RUNS_LISTED - 1)[_RUNS_LISTED - 1]]
+    C = len(parts.channels)
+    long = [(float(parts.runs.flat[k]), runs._key(k // C, k % C)) for k in flat]
+    count = int(np.count_nonzero(np.isfinite(parts.runs) & (parts.runs < -MISFIT_Z)))
+    return _misfit(redchi, var, runs, long, count)
+
+
+def _misfit(redchi, var, runs, long, count=None) -> Misfit:
+    """The :class:`Misfit` of χ²_ν, the variance of its spread, every channel's runs z and
+    ``long``: (z, key) of the channels whose signs run long (in their order; of ``count``
+    such channels, the worst of them at least)."""
+    count = len(long) if count is None else count
     z = (redchi - 1.0) / math.sqrt(var)
     reasons = []
     if z > MISFIT_Z:
         reasons.append(f"χ²_ν = {redchi:.3g} ({z:.1f} standard deviations above 1)")
-    long = [(rz, key) for key, rz in runs.items() if np.isfinite(rz) and rz < -MISFIT_Z]
-    if len(long) > _RUNS_LISTED:  # the worst, then how many more
+    if count > _RUNS_LISTED:  # the worst, then how many more
         long = sorted(long)
     for rz, key in long[:_RUNS_LISTED]:
         reasons.append(f"{key} residual signs run in long stretches (z = {rz:.3g})")
-    if len(long) > _RUNS_LISTED:
+    if count > _RUNS_LISTED:
         reasons.append(
-            f"and {len(long) - _RUNS_LISTED} more of the {len(runs)} channels' residual "
+            f"and {count - _RUNS_LISTED} more of the {len(runs)} channels' residual "
             "signs run in long stretches"
         )
     return Misfit(redchi, float(z), runs, tuple(reasons))
