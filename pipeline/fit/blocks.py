@@ -34,17 +34,18 @@ solver keeps only arrays of a few numbers, never its residuals nor an object of 
 its blocks H_sl, H_ll and g_l (H_ss and g_s only summed over the records), its χ² and its
 share of the misfit test (:class:`pipeline.fit.procedure.MisfitParts`: (records ×
 channels) arrays) — some 160 bytes, for the current step and for a trial while it is
-judged — and, while an evaluation runs, its local parameters and their derivatives by θ
-for the local parameters θ moves (a record's systematics do not: five columns of the
-twenty-one). The records themselves may come a chunk at a time from a
+judged. Its local parameters and their derivatives by θ (for the local parameters θ
+moves: five of the twenty-one, a record's systematics do not move) are made a chunk at a
+time, with the chunk's evaluation. The records themselves may come a chunk at a time from a
 :class:`pipeline.fit.store.RecordStore`, so the memory does not grow with the records
 beyond those few numbers.
 
 With an ``executor`` (a dask client's, on a cluster), each evaluation sends every chunk of
 records as the store wrote it, with its rows of local parameters and their derivatives.
 The chunk travels as a uint8 array over its bytes, which dask serializes without copying
-it, and the rows as copies of the chunk's own: a slice of the campaign's arrays would be
-serialized as a view and keep the whole array alive for as long as a message holds it —
+it, and the rows as arrays of the chunk's own (made for the chunk): a slice of arrays over
+the campaign would be serialized as a view and keep the whole array alive for as long as a
+message holds it —
 and a dask client and scheduler keep their recent messages for debugging
 (``distributed.admin.low-level-log-length``, a thousand by default), so an evaluation's
 (records × parameters) derivatives lingered some evaluations after they were used.
@@ -116,37 +117,40 @@ def _moved(p, b):
         return np.where(p == b, 0.0, p - b)
 
 
-def _rows(design, theta) -> np.ndarray:
-    """Every record's local parameters at θ, (R, L) (a design may give them as one
-    (R, 1, L) array, or as a list of (1, L) arrays)."""
-    return np.asarray(design.local(theta[None, :]))[:, 0, :]
+def _rows(design, theta, records) -> np.ndarray:
+    """The local parameters at θ of the records ``records`` (a slice), (n, L), an array of
+    their own."""
+    return np.asarray(design.local(theta[None, :], records))[:, 0, :].copy()
 
 
-def _dlocal(design, theta, shared, own, scale):
-    """Every record's local parameters (R, L) and their derivatives ∂P_i/∂θ by its columns
-    (shared, then own), by forward differences of ``design.local`` — every record's own
-    parameters of one kind perturbed at once (each moves only its own record). The
-    derivatives are kept for the local parameters that move only: (R, m, p) and their
-    indices ``cols`` (m,) among the L (the others are zero: a record's systematics, its
-    speed when fixed)."""
-    base = _rows(design, theta)
+def _dlocal(design, theta, shared, own, scale, records):
+    """The local parameters (n, L) of the records ``records`` (a slice: a chunk) and their
+    derivatives ∂P_i/∂θ by θ's columns (shared, then own), by forward differences of
+    ``design.local`` — the records' own parameters of one kind perturbed at once (each
+    moves only its own record). The derivatives are kept for the local parameters that
+    move only: (n, m, p) and their indices ``cols`` (m,) among the L (the others are zero:
+    a record's systematics, its speed when fixed). Made a chunk at a time, they are never
+    held for every record."""
+    base = _rows(design, theta, records)
 
-    def steps():  # per column of θ: (θ + h, h)
+    th = theta.copy()
+
+    def steps():  # per column of θ: its step h, with th = θ + h until the next
         for k in shared:
             h = 1e-7 * max(abs(theta[k]), scale[k])
-            th = theta.copy()
             th[k] += h
-            yield th, h
+            yield h
+            th[k] = theta[k]
         for j in range(own.shape[1]):
-            ks = own[:, j]
+            ks = own[records, j]
             h = 1e-7 * np.maximum(np.abs(theta[ks]), scale[ks])
-            th = theta.copy()
             th[ks] += h
-            yield th, h[:, None]
+            yield h[:, None]
+            th[ks] = theta[ks]
 
     parts = []  # per column of θ: the local columns it moves and their derivatives
-    for th, h in steps():
-        d = _moved(_rows(design, th), base)
+    for h in steps():
+        d = _moved(_rows(design, th, records), base)
         c = np.flatnonzero(np.any(d != 0, axis=0))
         parts.append((c, d[:, c] / h))
     cols = np.unique(np.concatenate([c for c, _ in parts])) if parts else np.zeros(0, int)
@@ -177,23 +181,23 @@ def _evaluate(
     """Every record at θ, a chunk at a time, here or in ``executor``'s processes
     (:class:`_Evaluation`)."""
     R = len(datas)
-    if jacobian:
-        rows, D, cols = _dlocal(design, theta, shared, own, scale)
-    else:
-        rows, D, cols = _rows(design, theta), None, None
     ps = shared.size
 
     def jobs():  # what travels to an executor (module notes)
         for a, n, chunk in chunks_of(datas, CHUNK, packed=executor is not None):
             if executor is not None:
                 chunk = np.frombuffer(chunk, dtype=np.uint8)
-            d = None if D is None else D[a : a + n].copy()
-            yield model, chunk, rows[a : a + n].copy(), d, cols, ps
+            records = slice(a, a + n)
+            if jacobian:
+                rows, D, cols = _dlocal(design, theta, shared, own, scale, records)
+            else:
+                rows, D, cols = _rows(design, theta, records), None, None
+            yield model, chunk, rows, D, cols, ps
 
     chi2 = np.empty(R)
     blocks, parts = None, None
     if jacobian:
-        blocks, parts = _empty_blocks(R, ps, D.shape[2] - ps), MisfitParts.empty(R, model.channels)
+        blocks, parts = _empty_blocks(R, ps, own.shape[1]), MisfitParts.empty(R, model.channels)
     a = 0
     for c2, b, p in in_order(executor, _chunk, jobs()):
         n = c2.size
@@ -384,7 +388,8 @@ def solve_blocks(
     datas : list of RecordData, or a :class:`pipeline.fit.store.RecordStore` (read a chunk
         at a time)
     design : Design with ``shared_index()`` and ``own_index()`` (the global indices of the
-        shared parameters, and per record those of its own)
+        shared parameters, and per record those of its own), and ``local(theta, records)``
+        giving the local parameters of a slice of the records
     theta0 : numpy.ndarray — every global parameter's start (fixed ones at their values)
     varied : sequence of bool — which vary
     lower, upper : numpy.ndarray — bounds (steps are clipped to them)

@@ -153,11 +153,12 @@ class _Campaign(Design):
         first = sorted(self._first.values())
         return np.arange(R)[:, None] + np.array(first, dtype=int)[None, :]
 
-    def local(self, theta):
+    def local(self, theta, records=slice(None)):
         """Every record's local parameters, vectorised over records: e(α) for the
         Hunt–Crossley family computed once for all records and rows (one call of the law's
         closed form, not one per record). One (R, B, L) array: record i's (B, L) rows are
-        its item i (no array object a record)."""
+        its item i (no array object a record); ``records``: a slice of them only (the
+        block solver's chunk)."""
         theta = np.atleast_2d(theta)
         B, R = theta.shape[0], len(self.summary.names)
         if self._cols is None:
@@ -171,10 +172,10 @@ class _Campaign(Design):
                 "cos_a": sm.cos_a,
             }
         c = self._cols
-        P = np.repeat(c["nominal"][:, None, :], B, axis=1)  # (R, B, L)
-        P[:, :, 0] = theta[:, c["E"]].T
-        P[:, :, 4] = theta[:, self.speed].T
-        P[:, :, 5] = theta[:, self.t0].T
+        P = np.repeat(c["nominal"][records, None, :], B, axis=1)  # (R, B, L)
+        P[:, :, 0] = theta[:, c["E"][records]].T
+        P[:, :, 4] = theta[:, self.speed][:, records].T
+        P[:, :, 5] = theta[:, self.t0][:, records].T
         if self.law == "hertz":
             P[:, :, 1] = 1.0
         elif self.damping == "constant_alpha":
@@ -183,9 +184,9 @@ class _Campaign(Design):
                 theta[:, self.damp][None, :],
                 P[:, :, 0],
                 P[:, :, 4],
-                c["R_eff"][:, None],
-                c["m_eff"][:, None],
-                c["cos_a"][:, None],
+                c["R_eff"][records, None],
+                c["m_eff"][records, None],
+                c["cos_a"][records, None],
             )
         else:
             P[:, :, 1] = theta[:, self.damp][None, :]
@@ -195,8 +196,8 @@ class _Campaign(Design):
             P[:, :, 2] = theta[:, self.mu[0]][None, :]
         else:
             a, b = theta[:, self.mu[0]][None, :], theta[:, self.mu[1]][None, :]
-            P[:, :, 2] = np.maximum(a + b * self.vt0[:, None], 0.0)
-        P[:, :, 3] = theta[:, c["kt"]].T if self.kt else 1.0
+            P[:, :, 2] = np.maximum(a + b * self.vt0[records, None], 0.0)
+        P[:, :, 3] = theta[:, c["kt"][records]].T if self.kt else 1.0
         return P
 
 
@@ -732,6 +733,7 @@ def fit_campaign(
     store = RecordStore.of_packed(packed(), chunk=size)
     if own_starts:
         singles = {k: np.concatenate([c[k] for c in columns]) for k in _START}
+        columns.clear()  # the chunks' columns, now joined
     else:
         singles = _columns(_as_list(starts, n_records, "starts"))
     names = store.summary.names
