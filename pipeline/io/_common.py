@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import math
 import numbers
@@ -39,6 +40,7 @@ __all__ = [
     "read_decoupling",
     "decouple_columns",
     "DECOUPLE_AXES",
+    "exact_floats",
 ]
 
 #: Default map from record channel to tri-axial column (the seed's sensor: Oz normal,
@@ -97,6 +99,20 @@ def file_path(path) -> Path:
     if p.is_dir():
         raise InputError("is a directory, not a file; give the path of one record file", path=p)
     return p
+
+
+@functools.cache
+def exact_floats() -> dict:
+    """``pd.read_csv``'s keywords that read every number as the float it was written from.
+
+    Before 3.1, pandas' C parser converts numbers with a fast routine that is one unit in
+    the last place off for about a fifth of them (a record written and read back differs),
+    and its exact converter must be asked for; pandas 3.1 made the exact one the only one and
+    deprecated the keyword."""
+    import pandas as pd
+
+    major, minor = (int(n) for n in re.findall(r"\d+", pd.__version__)[:2])
+    return {"float_precision": "round_trip"} if (major, minor) < (3, 1) else {}
 
 
 def read_raw(path, *, background_hash: bool = False) -> tuple[Path, bytes, str]:

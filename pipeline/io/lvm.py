@@ -85,6 +85,7 @@ from ._common import (
     NONFINITE,
     NUMBER,
     decode,
+    exact_floats,
     meta_key,
     read_decoupling,
     read_raw,
@@ -348,6 +349,7 @@ def _split(seg: _Segment, sep: str, n: int, numeric=(), dec="."):
                 quoting=csv.QUOTE_NONE,
                 engine="c",
                 skip_blank_lines=False,
+                **exact_floats(),
             )
     except (ValueError, pd.errors.ParserError, pd.errors.ParserWarning):
         return None

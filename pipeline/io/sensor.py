@@ -67,6 +67,7 @@ from ._common import (
     check_plane,
     decode,
     decouple_columns,
+    exact_floats,
     file_path,
     first_non_increase,
     meta_key,
@@ -674,6 +675,7 @@ def _parse_table(
                 engine="c",
                 skip_blank_lines=True,
                 chunksize=chunksize,
+                **exact_floats(),
             )
 
     def to_forces(cols):
