@@ -8,7 +8,7 @@ export OPENBLAS_NUM_THREADS := 1
 export OMP_NUM_THREADS := 1
 export MPLBACKEND := Agg
 
-.PHONY: all venv test test-loaded test-narrow-simd test-fuzz reproduce docs bench data lint clean
+.PHONY: all venv test test-loaded test-narrow-simd test-fuzz test-min reproduce docs bench data lint clean
 
 all: test
 
@@ -43,6 +43,17 @@ test-narrow-simd: $(STAMP)
 test-fuzz: $(STAMP)
 	HYPOTHESIS_PROFILE=fuzz MPLCONFIGDIR=$$(mktemp -d) $(PY) -m pytest -q tests/test_io_fuzz.py
 
+# The whole suite on the oldest versions pyproject.toml allows (requirements-min.txt: the
+# runtime dependencies and extras pinned at their floors, the test tools the newest that
+# fit), in a venv of its own made anew (.venv-min/, about a minute to install). Not in CI
+# (its time is counted): run it when a floor changes or a newer API is used.
+test-min:
+	rm -rf .venv-min
+	$(PYTHON) -m venv .venv-min
+	.venv-min/bin/python -m pip install --quiet --upgrade pip
+	.venv-min/bin/python -m pip install --quiet -c requirements-min.txt -e '.[dev,tdms]'
+	MPLCONFIGDIR=$$(mktemp -d) .venv-min/bin/python -m pytest -q
+
 # The seed paper's figures and findings, then a campaign of the samples (its reports and
 # overview); the campaign's pages are then opened in headless Chromium, checked as a reader
 # sees them, and screenshotted into build/browser/ (skipped, saying so, without Chromium).
@@ -68,4 +79,4 @@ lint: $(STAMP)
 	$(PY) -m ruff check pipeline tests benchmarks scripts examples docs
 
 clean:
-	rm -rf build .pytest_cache docs/auto_examples docs/reference
+	rm -rf build .pytest_cache docs/auto_examples docs/reference .venv-min

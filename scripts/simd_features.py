@@ -5,9 +5,6 @@ falls back to its baseline kernels and sums in another order; a test that compar
 more tightly than their rounding allows then fails here instead of on a user's machine.
 """
 
-try:  # NumPy ≥ 2
-    from numpy._core._multiarray_umath import __cpu_dispatch__, __cpu_features__
-except ImportError:  # NumPy 1.26
-    from numpy.core._multiarray_umath import __cpu_dispatch__, __cpu_features__
+from numpy._core._multiarray_umath import __cpu_dispatch__, __cpu_features__  # NumPy ≥ 2
 
 print(" ".join(f for f in __cpu_dispatch__ if __cpu_features__.get(f)))
