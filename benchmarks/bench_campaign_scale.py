@@ -30,6 +30,14 @@ Cost against N on log–log: the fitted slope (target ≤ :data:`SLOPE_TARGET`);
 against N: each process's growth per 1,000 records (a straight-line fit) and its peak
 (target ≤ :data:`MEMORY_TARGET_MB` at every N).
 
+What the joint fit itself holds a record, apart from the processes' resident memory (which
+a cluster's messages, the allocator and the records' analysis blur): in a fresh process,
+Python's ``tracemalloc`` over :func:`pipeline.fit_campaign` (four hypotheses) of the
+simulated campaign of ``benchmarks/bench_joint.py`` at :data:`TRACED_RECORDS` records,
+read in chunks of :data:`TRACED_CHUNK` (so that both sizes span several chunks): the fit's
+largest traced memory and what it keeps after, and their growth per record between the
+two sizes (``joint_fit_traced``).
+
 The outcome table of :func:`pipeline.simulate.impact_outcomes` and the fits' pulse tables
 are built on their first use and cached on disk; the run uses a cache folder of its own,
 filled by a warm-up campaign of a few records before the clock.
@@ -83,6 +91,9 @@ REPORTS_TARGET_S = 600.0
 SLOPE_TARGET = 1.05
 MEMORY_TARGET_MB = 1024.0
 N_BOOT = 200
+#: records of the joint fits traced in one process (module notes), and their chunk
+TRACED_RECORDS = (64, 256)
+TRACED_CHUNK = 16
 #: what docs/cluster.md tells a cluster's processes (the workers' allocator keeping freed
 #: memory, their statistical profiler off, short logs of recent messages)
 CLUSTER_ENV = {
@@ -210,6 +221,43 @@ def _subprocess(fn: str, *args) -> dict:
     if out.returncode != 0:
         raise RuntimeError(f"{fn}{args} failed:\n{out.stderr[-3000:]}")
     return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def _traced(sizes, chunk) -> dict:
+    """Run in a fresh process: the joint fit of the simulated campaign at each of
+    ``sizes`` records, its largest traced memory and what it keeps after (module notes)."""
+    import gc
+    import tracemalloc
+
+    import dask.array  # noqa: F401  (xarray imports it at the first record with a spike)
+
+    from benchmarks.bench_joint import records
+    from pipeline import fit_campaign
+    from pipeline.fit import store
+
+    store.CHUNK = chunk
+    out = {"records": [], "peak_MB": [], "kept_MB": []}
+    for n in (8, *sizes):  # 8: the imports and caches before the measures
+        recs, told = records(n, lazy=True)
+        recs[0]
+        gc.collect()
+        tracemalloc.start()
+        base = tracemalloc.get_traced_memory()[0]
+        fit = fit_campaign(recs, told, mu_law="linear_vt0", damping="constant_e")
+        gc.collect()
+        kept, peak = tracemalloc.get_traced_memory()
+        tracemalloc.stop()
+        del fit
+        if n in sizes:
+            out["records"].append(n)
+            out["peak_MB"].append((peak - base) / 1e6)
+            out["kept_MB"].append((kept - base) / 1e6)
+    dn = out["records"][-1] - out["records"][0]
+    for k in ("peak", "kept"):
+        mb = out[f"{k}_MB"]
+        out[f"{k}_bytes_per_record"] = (mb[-1] - mb[0]) * 1e6 / dn
+    out["chunk"] = chunk
+    return out
 
 
 def _free_port() -> int:
@@ -355,7 +403,9 @@ def _env_int(name, default) -> int:
     return int(os.environ.get(name, default))
 
 
-def summarise(rows: dict, peer: dict | None, identical: dict, external: dict | None) -> dict:
+def summarise(
+    rows: dict, peer: dict | None, identical: dict, external: dict | None, traced: dict | None
+) -> dict:
     """The figures of the runs so far (module notes)."""
     import lmfit
 
@@ -384,6 +434,7 @@ def summarise(rows: dict, peer: dict | None, identical: dict, external: dict | N
         "reports_target_s": REPORTS_TARGET_S,
         "dataset_identical_serial_dask": identical,
         "external": external,
+        "joint_fit_traced": traced,
         "cluster_env": CLUSTER_ENV,
         "lmfit": lmfit.__version__,
         **machine(),
@@ -414,12 +465,12 @@ def run(out_dir: Path) -> dict:
     sizes = [n for n in SIZES if n <= largest]
     old_cache = os.environ.get("PIPELINE_CACHE")
     rows = {"dask": [], "serial": [], "dask_reports": []}
-    identical, external, peer = {}, None, None
+    identical, external, peer, traced = {}, None, None, None
     result = {}
 
     def save():
         nonlocal result
-        result = summarise(rows, peer, identical, external)
+        result = summarise(rows, peer, identical, external, traced)
         result["sizes"] = sizes
         atomic_write_text(out_dir / "campaign_scale.json", json.dumps(result, indent=2) + "\n")
         _plot(result, out_dir / "campaign_scale.png")
@@ -433,6 +484,12 @@ def run(out_dir: Path) -> dict:
             _subprocess("_one", 8, "serial", eight, str(tmp / "warm"))
             peer = _subprocess("_peer", eight, str(tmp / "peer"), PEER_RECORDS)
             print(f"  peer: {peer['cpu_s_per_record']:.1f} s CPU per record", flush=True)
+            traced = _subprocess("_traced", TRACED_RECORDS, TRACED_CHUNK)
+            print(
+                f"  joint fit alone, traced: {traced['peak_bytes_per_record'] / 1e3:.1f} kB a "
+                f"record at its largest, {traced['kept_bytes_per_record'] / 1e3:.1f} kB kept",
+                flush=True,
+            )
             ext_n = min(EXTERNAL_RECORDS, largest)
             for n in sorted(set(sizes) | {ext_n}):
                 folder = _folder(tmp, n)

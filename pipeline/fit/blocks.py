@@ -241,7 +241,7 @@ def _chunk(model, chunk, rows, D, cols, ps):
         blocks["gs"][i] = Js.T @ ri
         blocks["gl"][i] = Jo.T @ ri
         parts.set(i, ri, d)
-    return parts.chi2.copy(), blocks, parts
+    return parts.chi2, blocks, parts
 
 
 #: The blocks kept a record (:class:`_Evaluation`), and those summed over the records.

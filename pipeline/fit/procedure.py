@@ -242,7 +242,9 @@ class Misfit:
     ----------
     redchi : float — χ²_ν of the (whitened) data residuals
     chi2_z : float — (χ²_ν − 1) over its standard deviation under a correct model
-    runs_z : dict — runs-test z of each channel's residual signs
+    runs_z : dict — runs-test z of each channel's residual signs (``"i:name"`` for record
+        i's of a fit over many records; of :class:`MisfitParts`, a read-only mapping read
+        from their array)
     reasons : tuple of str — what failed ("" when the model describes the data)
     """
 
