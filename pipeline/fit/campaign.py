@@ -172,7 +172,7 @@ class _Campaign(Design):
                 "cos_a": sm.cos_a,
             }
         c = self._cols
-        P = np.repeat(c["nominal"][records, None, :], B, axis=1)  # (R, B, L)
+        P = np.repeat(c["nominal"][records, None, :], B, axis=1)  # (records, B, L)
         P[:, :, 0] = theta[:, c["E"][records]].T
         P[:, :, 4] = theta[:, self.speed][:, records].T
         P[:, :, 5] = theta[:, self.t0][:, records].T

@@ -370,11 +370,6 @@ class MisfitParts(Sequence):
             tuple(zip(self.channels, (float(z) for z in self.runs[i]), strict=True)),
         )
 
-    @property
-    def nbytes(self) -> int:
-        """Bytes of the arrays."""
-        return sum(a.nbytes for a in (self.chi2, self.sizes, self.n_noise, self.runs))
-
 
 class _RunsZ(Mapping):
     """The runs-test z of many records' channels as :attr:`Misfit.runs_z` gives them
@@ -387,13 +382,12 @@ class _RunsZ(Mapping):
         return f"{i}:{self._channels[c]}"
 
     def __getitem__(self, key):
-        i, sep, name = str(key).partition(":")
-        if not sep or not i.isdigit() or name not in self._channels:
-            raise KeyError(key)
-        i = int(i)
-        if i >= len(self._runs) or self._key(i, self._channels.index(name)) != key:
-            raise KeyError(key)
-        return float(self._runs[i, self._channels.index(name)])
+        i, _, name = str(key).partition(":")
+        if i.isdigit() and int(i) < len(self._runs) and name in self._channels:
+            c = self._channels.index(name)
+            if self._key(int(i), c) == key:
+                return float(self._runs[int(i), c])
+        raise KeyError(key)
 
     def __iter__(self):
         R, C = self._runs.shape
@@ -446,12 +440,12 @@ def _misfit_of_arrays(parts, k_free, nuisance) -> Misfit:
     runs = _RunsZ(parts.channels, parts.runs)
     with np.errstate(invalid="ignore"):
         flat = np.flatnonzero(np.isfinite(parts.runs) & (parts.runs < -MISFIT_Z))
-    if flat.size > _RUNS_LISTED:  # only the worst are named: the ties at the fourth too
+    count = flat.size
+    if count > _RUNS_LISTED:  # only the worst are named: the ties at the fourth too
         z = parts.runs.ravel()[flat]
         flat = flat[z <= np.partition(z, _RUNS_LISTED - 1)[_RUNS_LISTED - 1]]
     C = len(parts.channels)
     long = [(float(parts.runs.flat[k]), runs._key(k // C, k % C)) for k in flat]
-    count = int(np.count_nonzero(np.isfinite(parts.runs) & (parts.runs < -MISFIT_Z)))
     return _misfit(redchi, var, runs, long, count)
 
 
