@@ -704,3 +704,80 @@ def test_mat_damaged_files_never_read_as_text(tmp_path):
     _raises("an HDF5 file that is not a MATLAB v7.3 file", load, h)
     _raises("columns= does not apply to sensor CSV files", load, SAMPLES / "gr_5deg_0.3ms.csv",
             columns=["time [s]"])  # fmt: skip
+
+
+def _v5_elements(raw: bytes, start: int, end: int):
+    """(type, data offset, bytes) of the MAT v5 data elements in raw[start:end], little
+    endian, written here from MathWorks' "MAT-File Format" (v5, ch. 1) for the test."""
+    import struct
+
+    pos, out = start, []
+    while pos < end:
+        first, second = struct.unpack_from("<II", raw, pos)
+        if first >> 16:
+            out.append((first & 0xFFFF, pos + 4, first >> 16))
+            pos += 8
+        else:
+            out.append((first, pos + 8, second))
+            pos += 8 + second + (-second % 8)
+    return out
+
+
+@pytest.mark.parametrize("damage", ["type", "size", "dims"])
+def test_mat_v5_tags_that_contradict_the_file_are_refused_not_a_crash(tmp_path, damage):
+    """A v5 file whose one byte of a data element's tag is damaged — the real part's data
+    type made one no MAT-file has, its byte count doubled, or its array's dimensions
+    grown — is refused with an InputError naming it. SciPy's reader trusts the tags, and the
+    first of these crashed the process (a segmentation fault), so each read runs in a
+    process of its own here."""
+    import subprocess
+    import sys
+
+    raw = bytearray((SAMPLES / "sensor_v5.mat").read_bytes())
+    matrix = _v5_elements(raw, 128, len(raw))[-2]  # the last numeric vector
+    assert matrix[0] == 14  # miMATRIX: the precondition
+    flags, dims, name, real = _v5_elements(raw, matrix[1], matrix[1] + matrix[2])[:4]
+    assert real[0] in (7, 9) and real[2] > 16  # single or double data
+    if damage == "type":
+        raw[real[1] - 8] = 230
+    elif damage == "size":
+        raw[real[1] - 4 : real[1]] = (2 * real[2]).to_bytes(4, "little")
+    else:
+        raw[dims[1] : dims[1] + 4] = (10**6).to_bytes(4, "little")
+    p = tmp_path / "damaged.mat"
+    p.write_bytes(bytes(raw))
+    code = (
+        "import sys\nfrom pipeline.errors import InputError\nfrom pipeline.io import read_mat\n"
+        "try:\n    read_mat(sys.argv[1])\nexcept InputError as exc:\n    print(exc)\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code, str(p)], capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr[-2000:]
+    assert "damaged.mat" in out.stdout and "cannot read this MATLAB file" in out.stdout, out
+
+
+def test_mat_v5_check_refuses_none_of_scipys_own_readable_files():
+    """SciPy's own MAT v5 test files (MATLAB 6.1–7.4, both byte orders, cells, structs,
+    sparse, objects, UTF-8 names): the tag check refuses none that SciPy reads."""
+    import io
+    import warnings
+
+    from pipeline.io.mat import _check_v5, _version
+
+    folder = Path(scipy.io.__file__).parent / "matlab" / "tests" / "data"
+    files = sorted(folder.glob("*.mat"))
+    if len(files) < 20:
+        pytest.skip("SciPy was installed without its test data")
+    read = 0
+    for f in files:
+        raw = f.read_bytes()
+        if _version(raw) != "5":
+            continue
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                scipy.io.loadmat(io.BytesIO(raw))
+        except Exception:  # noqa: BLE001 - a file SciPy refuses is not this test's
+            continue
+        _check_v5(raw, f)  # raises InputError on a file it refuses
+        read += 1
+    assert read >= 50

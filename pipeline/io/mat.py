@@ -36,7 +36,9 @@ channel reads (``ignored_columns``) and the variables that are no vector
 from __future__ import annotations
 
 import io
+import math
 import re
+import struct
 import warnings
 
 import numpy as np
@@ -107,6 +109,8 @@ def _variables(raw: bytes, p) -> tuple[dict, str, str]:
         return _h5_variables(raw, p), version, header
     import scipy.io
 
+    if version == "5":
+        _check_v5(raw, p)  # before scipy, which trusts the tags: a damaged one may crash it
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # scipy's MatReadWarning: unreadable parts
@@ -120,6 +124,87 @@ def _variables(raw: bytes, p) -> tuple[dict, str, str]:
             path=p,
         ) from exc
     return {k: _plain(v) for k, v in data.items() if not k.startswith("__")}, version, header
+
+
+#: Item sizes [bytes] of the MAT-file v5 data types that hold numbers or text (MathWorks,
+#: "MAT-File Format", Table 1-1): miINT8 … miUINT64, miUTF8/16/32.
+_V5_ITEM = {1: 1, 2: 1, 3: 2, 4: 2, 5: 4, 6: 4, 7: 4, 9: 8, 12: 8, 13: 8, 16: 1, 17: 2, 18: 4}
+_MI_MATRIX, _MI_COMPRESSED = 14, 15
+#: Array classes whose data are numbers, one per element: mxDOUBLE … mxUINT64.
+_V5_NUMERIC = range(6, 16)
+
+
+def _check_v5(raw: bytes, p) -> None:
+    """Refuse a v5 MAT-file whose data element tags contradict each other or the file's
+    size: an element running past its container, a numeric array whose data do not hold
+    the elements its dimensions count, a data type no MAT-file has. SciPy's reader trusts
+    the tags, and on such a file (one flipped byte of a type code suffices) it can crash
+    the process instead of raising. Compressed elements are left to zlib, whose checksum
+    catches their damage. The layout is MathWorks' "MAT-File Format" (v5, Chapter 1)."""
+    order = {b"IM": "<", b"MI": ">"}.get(raw[126:128])
+    if order is None:
+        raise InputError(
+            "cannot read this MATLAB file: its header's byte-order mark is damaged; save it "
+            "again from MATLAB (save(name, '-v7'))",
+            path=p,
+        )
+
+    def bad(what, at):
+        raise InputError(
+            f"cannot read this MATLAB file: {what} (byte {at}); it is damaged — save it again "
+            "from MATLAB (save(name, '-v7') or '-v7.3')",
+            path=p,
+        )
+
+    def elements(start, end):
+        """(type, data start, byte count) of the data elements in raw[start:end]."""
+        out, pos = [], start
+        while pos < end:
+            if pos + 8 > end:
+                bad("a data element's tag is cut short", pos)
+            first, second = struct.unpack_from(order + "II", raw, pos)
+            if first >> 16:  # the small data element: up to 4 bytes inside its tag
+                kind, n, data, nxt = first & 0xFFFF, first >> 16, pos + 4, pos + 8
+                if n > 4:
+                    bad("a small data element claims more than 4 bytes", pos)
+            else:
+                kind, n, data = first, second, pos + 8
+                nxt = data + n + (0 if kind == _MI_COMPRESSED else -n % 8)
+                if data + n > end:
+                    bad("a data element runs past its container", pos)
+            out.append((kind, data, n))
+            pos = min(nxt, end)
+        return out
+
+    def matrix(start, n, at):
+        if n == 0:  # an empty element (an empty cell's)
+            return
+        parts = elements(start, start + n)
+        if len(parts) < 3 or parts[0][2] != 8 or parts[1][0] not in (5, 6):
+            bad("an array's flags, dimensions or name are missing", at)
+        flags = struct.unpack_from(order + "I", raw, parts[0][1])[0]
+        cls, is_complex = flags & 0xFF, bool(flags & 0x800)
+        dims = struct.unpack_from(order + f"{parts[1][2] // 4}i", raw, parts[1][1])
+        if len(dims) < 2 or min(dims) < 0:
+            bad("an array's dimensions are damaged", at)
+        count = math.prod(dims)
+        rest = parts[3:]
+        if cls in _V5_NUMERIC:
+            if len(rest) != 1 + is_complex:
+                bad("a numeric array's real or imaginary part is missing", at)
+            for kind, _, size in rest:
+                if kind not in _V5_ITEM or size != count * _V5_ITEM[kind]:
+                    bad("a numeric array's data do not match its dimensions", at)
+        elif cls == 1:  # a cell array: one array per cell
+            if len(rest) != count or any(kind != _MI_MATRIX for kind, _, _ in rest):
+                bad("a cell array's cells do not match its dimensions", at)
+        for kind, data, size in rest:
+            if kind == _MI_MATRIX:
+                matrix(data, size, data - 8)
+
+    for kind, data, n in elements(128, len(raw)):
+        if kind == _MI_MATRIX:
+            matrix(data, n, data - 8)
 
 
 def _plain(value):
