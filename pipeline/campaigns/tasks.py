@@ -401,25 +401,25 @@ def _analysis_of(task: RecordTask, **override) -> Analysed:
     and its contact fit."""
     rec = read_task_record(task)
     scene, source = _task_scene(task, rec)
-    a, notes = noted(analyse, rec, scene, **_with_sensor(task, {**task.options, **override}))
-    f = fit_contact(rec, scene, **_fit_options(task)) if task.fit else None
+    sensor = sensor_from_sidecar(task.path)  # its sidecar read once for both
+    a, notes = noted(analyse, rec, scene, **_with_sensor({**task.options, **override}, sensor))
+    f = fit_contact(rec, scene, **_fit_options(task, sensor)) if task.fit else None
     fitted = {} if f is None else _fit_numbers(f)
     return Analysed(a, fitted, source, f if task.report is not None else None, notes)
 
 
-def _fit_options(task: RecordTask) -> dict:
-    """The options of the task's contact fit: the analysis' ``n_boot`` and ``seed``, and the
-    sensor its sidecar states (:func:`pipeline.sidecar.sensor_from_sidecar`), as
-    ``pipeline fit`` takes it."""
+def _fit_options(task: RecordTask, sensor) -> dict:
+    """The options of the task's contact fit: the analysis' ``n_boot`` and ``seed``, and
+    ``sensor``, the one its sidecar states (:func:`pipeline.sidecar.sensor_from_sidecar`),
+    as ``pipeline fit`` takes it."""
     out = {k: task.options[k] for k in ("n_boot", "seed") if k in task.options}
-    sensor = sensor_from_sidecar(task.path)
     return out if sensor is None else {**out, "sensor": sensor}
 
 
-def _with_sensor(task: RecordTask, options: dict) -> dict:
-    """The analysis' ``options`` with the sensor the record's sidecar states for its fits
-    (``fit_options``; one given in the options wins), as ``pipeline analyse`` runs it."""
-    sensor = sensor_from_sidecar(task.path)
+def _with_sensor(options: dict, sensor) -> dict:
+    """The analysis' ``options`` with ``sensor``, the one the record's sidecar states, for
+    its fits (``fit_options``; one given in the options wins), as ``pipeline analyse`` runs
+    it."""
     if sensor is None:
         return options
     return {**options, "fit_options": {"sensor": sensor, **(options.get("fit_options") or {})}}
@@ -446,10 +446,11 @@ def write_report(task: RecordTask, done: Analysed, *, reanalyse: bool = False):
     """
     a, notes, fit = done.analysis, done.notes, done.fit
     rec = read_task_record(task) if reanalyse or fit is None else None
+    sensor = sensor_from_sidecar(task.path) if rec is not None else None
     if reanalyse:
-        a, notes = noted(analyse, rec, a.scene, **_with_sensor(task, task.options))
+        a, notes = noted(analyse, rec, a.scene, **_with_sensor(task.options, sensor))
     if fit is None:
-        fit = fit_contact(rec, a.scene, **_fit_options(task))
+        fit = fit_contact(rec, a.scene, **_fit_options(task, sensor))
     return render_record_report(
         task.path,
         a,
