@@ -31,6 +31,18 @@ Sensor records (``kind="sensor"``), per :func:`find_contact`:
    after the pulse is kept out), and outside the other impacts and the spikes; steps 2–5
    repeat until the window no longer changes.
 
+**A leaking sensor.** A piezo transducer's charge leaks through its amplifier's time
+constant τ, a first-order high-pass (:mod:`pipeline.sensor_model`): after a pulse of
+impulse P the output undershoots by about P/τ and recovers over τ, so where τ is a few
+dozen contact times every sample after a short record's pulse lies on the undershoot, not
+on the baseline. Where ``discharge`` states τ, steps 1–5 work on the record with the
+discharge undone (:func:`_undo_discharge`: :math:`F = F_m + \frac1\tau\int F_m\,dt`, the
+exact inverse of the high-pass as the sensor model discretises it), the baseline being the
+raw record's offset and drift seen through that same inversion; :attr:`ContactWindow.record`
+then holds the force so restored, and :attr:`ContactWindow.baseline` the raw record's line.
+Where none is stated and the quiet pre-trigger passes for a pulse the file cuts (it lies
+level, above the undershoot), the :class:`TruncatedPulseError` says so and how to state τ.
+
 Plausibility checks on the way, each with the number that tripped it (the typed errors and
 warnings of :mod:`pipeline.errors`):
 
@@ -603,6 +615,7 @@ def find_contact(
     false_alarm: float = 1e-3,
     guard: float = 0.25,
     max_iter: int = 20,
+    discharge: float = math.inf,
 ) -> ContactWindow:
     """Find the contact in a record, remove the baseline and estimate the noise.
 
@@ -622,6 +635,11 @@ def find_contact(
         the baseline fit.
     max_iter : int
         Maximum baseline/detection iterations.
+    discharge : float
+        The sensor's discharge time constant τ [s] (a piezo and its charge amplifier: a
+        first-order high-pass), where it is known; ``inf`` (default) for none. A sensor
+        record's window is then found on the record with the discharge undone (module
+        notes), and :attr:`ContactWindow.record` holds the force so restored.
 
     Returns
     -------
@@ -662,7 +680,19 @@ def find_contact(
         return _passthrough(record)
     if kind == "simulated":
         return _simulated(record)
-    return _sensor(record, k=k, false_alarm=false_alarm, guard=guard, max_iter=max_iter)
+    try:
+        tau = float(discharge)
+    except (TypeError, ValueError):
+        tau = math.nan
+    if not tau > 0:
+        raise InputError(
+            f"discharge = {discharge!r} must be the sensor's discharge time constant τ > 0 "
+            "[s], or inf for none",
+            path=record.attrs.get("source"),
+        )
+    return _sensor(
+        record, k=k, false_alarm=false_alarm, guard=guard, max_iter=max_iter, discharge=tau
+    )
 
 
 # ------------------------------------------------------------------ internals
@@ -802,6 +832,68 @@ def _line(t, y, t_ref, both_sides):
     return Baseline(float(y_mean - s * t_mean), s, float(t_ref))
 
 
+def _undo_discharge(y, t, tau: float):
+    r"""The input of a first-order high-pass s/(s + 1/τ) — a piezo sensor's discharge — whose
+    output is ``y`` (…, n) at the instants ``t`` [s] (n), from rest at the first sample.
+
+    The exact inverse of the high-pass discretised for an input linear between the samples
+    (first-order hold, as :func:`pipeline.sensor_model.to_sensor` applies it):
+    :math:`x_k = x_{k-1} + (y_k - q_k y_{k-1})/c_k`, :math:`q_k = e^{-h_k/\tau}`,
+    :math:`c_k = (1 - q_k)\,\tau/h_k`, :math:`h_k = t_k - t_{k-1}`, :math:`x_0 = y_0` —
+    to :math:`O((h/\tau)^2)` the continuous :math:`x = y + \frac1\tau\int y\,dt`.
+
+    Parameters
+    ----------
+    y : array_like — the high-pass's output [N], along the last axis
+    t : array_like — its instants [s], increasing
+    tau : float — the discharge time constant τ [s]
+
+    Returns
+    -------
+    numpy.ndarray — the input [N], the shape of ``y``
+    """
+    y = np.asarray(y, dtype=float)
+    h = np.diff(np.asarray(t, dtype=float)) / tau
+    q = np.exp(-h)
+    steps = (y[..., 1:] - q * y[..., :-1]) * (h / -np.expm1(-h))
+    x = np.empty_like(y)
+    x[..., :1] = y[..., :1]
+    np.cumsum(steps, axis=-1, out=x[..., 1:])
+    x[..., 1:] += y[..., :1]
+    return x
+
+
+class _Course:
+    """How a baseline b(t) = offset + slope·(t − t_ref) of the record shows in the signal the
+    window searches: as itself; or, where the sensor's discharge τ is stated and undone
+    (:func:`_undo_discharge`, linear), as the images of its two terms — the record's offset
+    leaks as the force does, so its image grows by (t − t₀)/τ."""
+
+    def __init__(self, t, t_ref, tau=math.inf):
+        self.t, self.t_ref, self.tau = t, float(t_ref), float(tau)
+        self.basis = None  # the images of 1 and t − t_ref, (2, n)
+        if math.isfinite(self.tau):
+            self.basis = _undo_discharge(np.stack([np.ones_like(t), t - t_ref]), t, self.tau)
+
+    def signal(self, y):
+        """The samples ``y`` [N] as the window searches them (the discharge undone)."""
+        return y if self.basis is None else _undo_discharge(y, self.t, self.tau)
+
+    def __call__(self, base):
+        """The baseline ``base`` in the searched signal, at every instant [N]."""
+        if self.basis is None:
+            return base(self.t)
+        return base.offset * self.basis[0] + base.slope * self.basis[1]
+
+    def fit(self, y, mask, both_sides):
+        """The baseline through the searched samples ``y`` where ``mask`` (:func:`_line`)."""
+        if self.basis is None:
+            return _fit_line(self.t, y, mask, self.t_ref, both_sides)
+        A = self.basis[: 2 if both_sides else 1, mask].T
+        coef = np.linalg.lstsq(A, y[mask], rcond=None)[0]
+        return Baseline(float(coef[0]), float(coef[1]) if both_sides else 0.0, self.t_ref)
+
+
 def _sides(mask, t, t0, t1):
     """The samples of ``mask`` before ``t0`` and after ``t1`` [s]: (left, right)."""
     return int(np.count_nonzero(mask & (t < t0))), int(np.count_nonzero(mask & (t > t1)))
@@ -863,12 +955,12 @@ def _repair_spikes(record, t, false_alarm):
     return out, tuple(sorted(found, key=lambda sp: (sp.index, sp.channel)))
 
 
-def _sensor(record, *, k, false_alarm, guard, max_iter):
+def _sensor(record, *, k, false_alarm, guard, max_iter, discharge):
     src = record.attrs.get("source")
     raw_fn = record.variables["Fn"].values
     t = times(record)
     record, spikes = _repair_spikes(record, t, false_alarm)
-    y = record.variables["Fn"].values
+    fn = record.variables["Fn"].values
     n = t.size
     if n < 20:
         raise InputError(
@@ -878,13 +970,15 @@ def _sensor(record, *, k, false_alarm, guard, max_iter):
         )
     kk = default_threshold(n, false_alarm) if k is None else float(k)
     t_ref = 0.5 * (t[0] + t[-1])
-    base, outside = _initial_baseline(t, y, t_ref)
+    course = _Course(t, t_ref, discharge)
+    y = course.signal(fn)
+    base, outside = _initial_baseline(t, y, t_ref, course)
     span = float(np.ptp(y))
     found, line_both = None, None  # line_both: the line was fitted on both sides
     sigma = np.nan
     for _ in range(max_iter):
-        r, r_base, r_outside = y - base(t), base, outside
-        sigma = _sigma(r[outside], y, span)
+        r, r_base, r_outside = y - course(base), base, outside
+        sigma = _sigma(r[outside], fn, span)
         runs = _runs(r, sigma, kk)
         new = _choose(runs, r, sigma, kk, src)
         if new is None:
@@ -905,7 +999,7 @@ def _sensor(record, *, k, false_alarm, guard, max_iter):
             new_outside[first.a : last.b + last.size + 1] = False
         left, right = _sides(new_outside, t, t0, t1)
         if left + right < 8:
-            _check_truncated(new, t, r, sigma, src)
+            _check_truncated(new, t, r, sigma, kk, course, src)
             raise InputError(
                 f"only {left + right} samples lie outside the contact "
                 f"({t0:.6g} s to {t1:.6g} s): a sensor record needs pre- and post-trigger "
@@ -917,15 +1011,15 @@ def _sensor(record, *, k, false_alarm, guard, max_iter):
         converged = found is not None and found.key == new.key
         converged = converged and np.array_equal(new_outside, outside)
         if not (converged and both == line_both):  # else the same samples give the same line
-            base, line_both = _fit_line(t, y, new_outside, t_ref, both), both
+            base, line_both = course.fit(y, new_outside, both), both
         found, outside = new, new_outside
         if converged:
             break
     # the last detection's residuals and noise hold unless the line or its samples changed
     if base != r_base:
-        r = y - base(t)
+        r = y - course(base)
     if found is not None and (base != r_base or not np.array_equal(outside, r_outside)):
-        sigma = _sigma(r[outside], y, span)
+        sigma = _sigma(r[outside], fn, span)
     fn_spikes = [sp for sp in spikes if sp.channel == "Fn"]
     if found is None and fn_spikes:
         worst = max(fn_spikes, key=lambda sp: abs(sp.value - base(sp.t)))
@@ -946,7 +1040,7 @@ def _sensor(record, *, k, false_alarm, guard, max_iter):
             "Check the channel map and the trigger, or lower k",
             path=src,
         )
-    _check_truncated(found, t, r, sigma, src)
+    _check_truncated(found, t, r, sigma, kk, course, src)
     t0, t1 = _ends(t, r, found.a, found.b)
     _check_clipping(record, t, found, outside, src)
     # spikes worth a word: well above the threshold, and away from the pulse's edges
@@ -957,7 +1051,7 @@ def _sensor(record, *, k, false_alarm, guard, max_iter):
         return abs(value) > 2 * kk * sigma and not t0 - margin <= t[i] <= t1 + margin
 
     # the repaired single samples of Fn away from the pulse are the trigger glitches of old
-    r_raw = raw_fn - base(t) if fn_spikes else r
+    r_raw = course.signal(raw_fn) - course(base) if fn_spikes else r
     lone = [sp for sp in fn_spikes if glitch(sp.index, r_raw[sp.index])]
     runs = [g for g in found.glitches if glitch(g.peak, r[g.peak])]
     runs += [_Run(sp.index, sp.index, int(np.sign(r_raw[sp.index])), sp.index, 1) for sp in lone]
@@ -965,13 +1059,22 @@ def _sensor(record, *, k, false_alarm, guard, max_iter):
     _report_events(found, t, r_raw, src)
     _report_spikes([sp for sp in spikes if sp not in lone], src)
     left, right = _sides(outside, t, t0, t1)
-    t_out = t[outside]
     noise, baseline = {"Fn": sigma}, {"Fn": base}  # Fn's: the detection's own
+    # where the discharge is undone, the window's record holds the force so restored
+    restored = {} if course.basis is None else {"Fn": r + base(t)}
     for c in _channels(record):
         if c != "Fn":
             yc = record.variables[c].values
-            baseline[c] = bc = _line(t_out, yc[outside], t_ref, left >= 4 and right >= 4)
-            noise[c] = _sigma(yc[outside] - bc(t_out), yc)
+            xc = course.signal(yc)
+            baseline[c] = bc = course.fit(xc, outside, left >= 4 and right >= 4)
+            rc = xc - course(bc)
+            noise[c] = _sigma(rc[outside], yc)
+            if restored:
+                restored[c] = rc + bc(t)
+    if restored:
+        record = record.copy()
+        for c, xc in restored.items():
+            record[c] = (record[c].dims, xc, record[c].attrs)
     peak = float(np.max(r[found.a : found.b + 1]))
     return _finish(
         record,
@@ -1056,7 +1159,14 @@ def _sigma(r, y, span=None) -> float:
     return max(sigma, _RESOLUTION_FLOOR * (float(np.ptp(y)) if span is None else span))
 
 
-def _initial_baseline(t, y, t_ref):
+def _end_samples(n: int) -> int:
+    """The samples of each end of an ``n``-sample record its first baseline rests on: 10 %,
+    at least 8 where the record has them (the MAD of 3 or 4 about their own median falls to
+    a tenth of σ by chance, and the noise then passes for a pulse's ring)."""
+    return max(n // 10, min(8, n // 4))
+
+
+def _initial_baseline(t, y, t_ref, course):
     """The first baseline and the samples it rests on.
 
     Three candidates: the line through the medians of the first and last 10 % of the
@@ -1064,20 +1174,30 @@ def _initial_baseline(t, y, t_ref):
     closest to it (smallest median absolute residual) wins: when both ends are baseline
     the line follows the drift; when one end lies inside a pulse the file cuts, the line
     would run through the pulse and turn it negative, and the quiet end's median wins.
+    ``y`` is the signal searched and ``course`` the way a baseline shows in it
+    (:class:`_Course`: where a discharge is undone, the lines are those whose images pass
+    through the medians).
     """
     n = t.size
-    # at least 8 end samples where the record has them: the MAD of 3 or 4 about their own
-    # median falls to a tenth of σ by chance, and the noise then passes for a pulse's ring
-    m = max(n // 10, min(8, n // 4))
+    m = _end_samples(n)
     ta, ya = _median(t[:m]), _median(y[:m])
     tb, yb = _median(t[-m:]), _median(y[-m:])
-    slope = (yb - ya) / (tb - ta)
-    candidates = [  # through both ends, the first, the last
-        Baseline(float(ya + slope * (t_ref - ta)), float(slope), float(t_ref)),
-        Baseline(float(ya), 0.0, float(t_ref)),
-        Baseline(float(yb), 0.0, float(t_ref)),
-    ]
-    spread = [float(_median(np.abs(y - base(t)), scratch=True)) for base in candidates]
+    if course.basis is None:
+        slope = (yb - ya) / (tb - ta)
+        candidates = [  # through both ends, the first, the last
+            Baseline(float(ya + slope * (t_ref - ta)), float(slope), float(t_ref)),
+            Baseline(float(ya), 0.0, float(t_ref)),
+            Baseline(float(yb), 0.0, float(t_ref)),
+        ]
+    else:  # the images of offset and slope at the ends' median instants
+        (ua, va), (ub, vb) = ([np.interp(x, t, u) for u in course.basis] for x in (ta, tb))
+        offset, slope = np.linalg.solve([[ua, va], [ub, vb]], [ya, yb])
+        candidates = [
+            Baseline(float(offset), float(slope), float(t_ref)),
+            Baseline(float(ya / ua), 0.0, float(t_ref)),
+            Baseline(float(yb / ub), 0.0, float(t_ref)),
+        ]
+    spread = [float(_median(np.abs(y - course(base)), scratch=True)) for base in candidates]
     best = int(np.argmin(spread))
     # the first noise estimate uses the chosen end samples: a pulse that fills most of a
     # short record would otherwise inflate the MAD past the pulse itself
@@ -1236,9 +1356,28 @@ def _dip(r, run, sigma, kk) -> int | None:
     return run.a + i + int(np.argmin(seg[i : j + 1]))
 
 
-def _check_truncated(found, t, r, sigma, src):
+def _check_truncated(found, t, r, sigma, kk, course, src):
     n = t.size
     if found.a == 0:
+        head = r[: _end_samples(n)]
+        h = head.size // 2
+        level = abs(_median(head[:h]) - _median(head[h:])) < kk * sigma
+        if course.basis is None and level and mad_sigma(head) < 2.0 * sigma:
+            # a start that lies level, as noisy as the baseline, is baseline, not a pulse's
+            # flank or top: the samples after the pulse lie below it, the undershoot of a
+            # sensor that discharges
+            raise TruncatedPulseError(
+                f"the record's first samples lie level, {_median(head):.4g} N "
+                f"({_in_sigma(_median(head), sigma)}) above the samples after the contact "
+                "pulse, which the baseline then rests on: the force undershoots after the "
+                "pulse, as a piezo sensor's discharge makes it (by about the impulse over the "
+                "discharge time constant τ, recovering over τ), so the start passes for a "
+                "pulse the file cuts. State the sensor's discharge τ [s] — a sidecar's "
+                '\'sensor\' block {"discharge": τ}, sensor={"discharge": τ} of the fits, '
+                "find_contact(..., discharge=τ) — or, if the file was cut mid-pulse, export "
+                "it again with more pre-trigger samples",
+                path=src,
+            )
         raise TruncatedPulseError(
             f"the record starts inside the contact pulse: Fn is already {float(r[0]):.4g} N "
             f"({_in_sigma(r[0], sigma)} above the baseline) at the first sample "
