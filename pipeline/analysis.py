@@ -35,6 +35,7 @@ from . import window as _window
 from ._json import json_ready
 from .errors import InputError
 from .fit import select_model
+from .fit.sensor import sensor_spec
 from .percussion import estimate_mu
 from .plausibility import Plausibility, check_outcomes, check_plausible
 from .precision import pdg, plain
@@ -425,7 +426,8 @@ def analyse(
     seed : int
         Seed of the bootstrap.
     window_options : dict, optional
-        Passed to :func:`pipeline.window.find_contact`.
+        Passed to :func:`pipeline.window.find_contact` (its ``discharge`` by default the
+        one the sensor states: ``fit_options``' ``sensor``, else the record's metadata).
     fit_options : dict, optional
         Passed to :func:`pipeline.select_model` when μ or e come from the fit, e.g.
         ``{"sensor": sidecar["sensor"]}`` for a rig whose cross-talk matrix is known (an
@@ -457,7 +459,10 @@ def analyse(
         raise InputError("analyse needs a pipeline.Scene describing the impact")
     if source != "auto" and source not in _perc.SOURCES:
         raise InputError(f"source {source!r} is unknown; use 'auto' or one of {_perc.SOURCES}")
-    win = _window.find_contact(record, **(window_options or {}))  # the record's own checks
+    # the record's own checks; a discharge its sensor states is undone for the window (the
+    # samples after the pulse lie on its undershoot)
+    stated = sensor_spec(record, (fit_options or {}).get("sensor"))
+    win = _window.find_contact(record, **{"discharge": stated.discharge, **(window_options or {})})
     plausibility = check_plausible(record, scene, window=win)  # against the scene
     if "Ft" not in record:
         raise InputError(

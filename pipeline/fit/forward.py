@@ -448,7 +448,8 @@ def prepare(
         of its duration]; None (default): every sample
     oversample : int — fine-grid factor of the filter model
     noise : mapping, optional — σ per channel [N], overriding the measured noise
-    window_options : dict, optional — passed to :func:`pipeline.window.find_contact`
+    window_options : dict, optional — passed to :func:`pipeline.window.find_contact` (its
+        ``discharge`` by default the sensor's)
     baseline : bool, optional — fit each channel's residual offset and drift with the
         contact (module notes); default: for sensor records (whose baseline the window
         estimated from trigger margins)
@@ -475,10 +476,12 @@ def prepare(
             )
     if margin is not None and not (margin >= 0):
         raise InputError(f"margin must be ≥ 0 (a fraction of the contact duration), got {margin}")
+    spec = sensor_spec(record, sensor)
     with warnings.catch_warnings():  # a fit says what it leaves out (its verdict)
         warnings.simplefilter("ignore", SpikeWarning)
-        win = find_contact(record, **(window_options or {}))
-    spec = sensor_spec(record, sensor)
+        # a stated discharge is undone for the window: the samples after the pulse lie on
+        # its undershoot, no baseline (pipeline.window)
+        win = find_contact(record, **{"discharge": spec.discharge, **(window_options or {})})
     notes = list(spec.notes)
     if quiet_after is None:
         quiet_after = spec.dynamic
