@@ -29,6 +29,7 @@ from pipeline.errors import (
     PipelineWarning,
     SensorDynamicsWarning,
     SpikeWarning,
+    TruncatedPulseError,
 )
 from pipeline.fit import fit_contact
 from pipeline.fit.sensor import DEFAULT_DAMPING, sensor_spec
@@ -268,6 +269,82 @@ def test_an_unstated_spin_is_named_where_pt_misses_and_stating_it_mends_the_fit(
 def test_inputs_taken_as_exact_look_for_nothing():
     fit, truth, _ = _fit("discharge", 5, systematics={})
     assert "discharge" not in fit.vary and not fit.dynamics
+
+
+# ---------------------------------------------------------------- a leaking sensor's window
+#: A 25.4 mm steel ball at 0.6 m/s, 15°, on a flat steel target (~100 µs contact), recorded
+#: by to_sensor's default rig (2 MHz, 300 kHz 2nd-order low-pass, 100 µs pre-, 200 µs
+#: post-trigger) through a discharge of τ = 10–20 contact times: the samples after the pulse
+#: lie on its undershoot, −P/τ ≈ −64 N at 1 ms, not on the baseline.
+LEAK_SCENE = Scene(**{**GR_RIG, "target_radius": math.inf}, speed=0.6, angle_deg=15.0,
+                   mu=0.13, e=0.9)  # fmt: skip
+
+
+@pytest.fixture(scope="module")
+def leak_ideal():
+    return impact(LEAK_SCENE, "hunt_crossley", "mindlin")
+
+
+@pytest.mark.parametrize("tau,seed", [(1e-3, 0), (1e-3, 1), (2e-3, 2)])
+def test_a_stated_discharge_is_undone_for_the_window(leak_ideal, tau, seed):
+    """The window of a leaking record, told τ, is the contact of the simulator's ideal
+    record (its first and last instants of Fn > 0) delayed by the low-pass's group delay
+    √2/(2π f_c) (Butterworth order 2), within two sample periods; its record holds the
+    force with the leak undone: the impulse of the ideal record (a discharge alone eats
+    (T − t̄)/τ ≈ 5 % of it at 1 ms, Harris & Piersol 2002, ch. 12)."""
+    rec = to_sensor(leak_ideal, seed=seed, discharge=tau)
+    t, fn = leak_ideal["time"].values, leak_ideal["Fn"].values
+    on = t[fn > 0]
+    rate, fc = rec.attrs["sensor_rate"], rec.attrs["sensor_bandwidth"]
+    delay = math.sqrt(2.0) / (2.0 * math.pi * fc)
+    w = find_contact(rec, discharge=tau)
+    assert w.t_start == pytest.approx(on[0] + delay, abs=2.0 / rate)
+    assert w.t_end == pytest.approx(on[-1] + delay, abs=2.0 / rate)
+    impulse = np.trapezoid(fn, t)
+    got = np.trapezoid(w.record["Fn"].values, w.record["time"].values)
+    assert got == pytest.approx(impulse, rel=0.01)
+
+
+def test_an_unstated_discharge_is_named_where_the_record_is_refused(leak_ideal):
+    """Told nothing, the undershoot after the pulse passes for the baseline and the quiet
+    pre-trigger for a pulse the file cuts: the refusal says what the record shows — a level
+    start and an undershoot after the pulse — and how to state the discharge."""
+    rec = to_sensor(leak_ideal, seed=0, discharge=1e-3)
+    with pytest.raises(TruncatedPulseError, match="discharge") as info:
+        find_contact(rec)
+    message = str(info.value)
+    assert "sensor=" in message and "'sensor'" in message
+    # a file that does start inside the pulse (cut at its middle) is said to be cut, no more
+    dry = to_sensor(leak_ideal, seed=0)
+    middle = int(np.searchsorted(dry["time"].values, 0.5 * float(leak_ideal["time"][-1])))
+    with pytest.raises(TruncatedPulseError, match="cut mid-pulse") as info:
+        find_contact(dry.isel(time=slice(middle, None)))
+    assert "discharge" not in str(info.value)
+
+
+def test_analyse_windows_a_leaking_record_with_the_discharge_its_record_states(leak_ideal):
+    """analyse's own window is told the record's discharge too: its final normal percussion
+    is the ideal record's impulse (the leak alone would eat ≈ 5 % of it by the end of the
+    contact at τ = 1 ms, and the record was refused before)."""
+    rec = to_sensor(leak_ideal, seed=1, discharge=1e-3)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", PipelineWarning)
+        a = analyse(rec, LEAK_SCENE, n_boot=0)
+    impulse = np.trapezoid(leak_ideal["Fn"].values, leak_ideal["time"].values)
+    assert a.outcomes.values["Pn_f"] == pytest.approx(impulse, rel=0.01)
+
+
+@pytest.mark.parametrize("tau,seed", [(1e-3, 5), (2e-3, 4)])
+def test_a_leaking_record_fits_with_its_stated_discharge(leak_ideal, tau, seed):
+    """Fitted with the discharge its record states (to_sensor's sensor_* attributes), the
+    intervals hold the scene's E*, e and μ (refused before: the window took the undershoot
+    for the baseline)."""
+    rec = to_sensor(leak_ideal, seed=seed, discharge=tau)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", PipelineWarning)
+        fit = fit_contact(rec, LEAK_SCENE.replace(mu=None, e=None), n_boot=0)
+    truth = {"E_eff": LEAK_SCENE.E_eff, "e": LEAK_SCENE.e, "mu": LEAK_SCENE.mu}
+    assert all(_holds(fit, truth).values()), (fit.ci(), truth)
 
 
 # ---------------------------------------------------------------- spikes
