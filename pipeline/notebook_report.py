@@ -76,6 +76,7 @@ __all__ = [
     "render",
     "record_outputs",
     "record_report",
+    "require_reports",
     "render_record_report",
     "campaign_report",
     "parameters_cell",
@@ -125,6 +126,21 @@ def _need(module: str):
             f"notebook reports need {module}: install the package with its 'reports' extra "
             "(pip install 'pipeline[reports]'), or leave the reports out (--no-reports)"
         ) from None
+
+
+def require_reports(*, execute: bool = False, html: bool = True) -> None:
+    """Raise :class:`~pipeline.errors.InputError` (saying what to install) where a package
+    the reports need is missing — before a run, not after it: every notebook's
+    (nbformat, jupytext, IPython), an executed one's (nbclient, ipykernel) and the HTML's
+    (nbconvert). Looks the packages up without importing them."""
+    import importlib.util
+
+    needed = ["nbformat", "jupytext", "IPython"]
+    needed += ["nbclient", "ipykernel"] if execute else []
+    needed += ["nbconvert"] if html else []
+    for module in needed:
+        if importlib.util.find_spec(module) is None:
+            _need(module)  # its ImportError, told as what to install
 
 
 def parameters_cell(parameters: dict):

@@ -62,6 +62,74 @@ def test_bad_arguments_are_one_line_and_exit_2(args, message, tmp_path, capsys, 
     assert "Traceback" not in err
 
 
+def _without(monkeypatch, *modules):
+    """This process as one where ``modules`` are not installed (their lookup finds none)."""
+    import importlib.util
+
+    find = importlib.util.find_spec
+    monkeypatch.setattr(
+        importlib.util, "find_spec", lambda name, *a: None if name in modules else find(name, *a)
+    )
+    for m in modules:  # an import fails as it would
+        monkeypatch.setitem(sys.modules, m, None)
+
+
+@pytest.mark.parametrize(
+    ("args", "missing"),
+    [
+        (["--no-html"], "nbclient"),  # the campaign's own report is executed
+        ([], "nbconvert"),
+        (["--no-html"], "jupytext"),  # every notebook's template
+        ([], "bokeh"),
+    ],
+)
+def test_campaign_without_the_reports_extra_stops_before_any_record(
+    args, missing, tmp_path, capsys, monkeypatch
+):
+    """A missing package of the 'reports' extra is told before the run, in one line (exit
+    2), not after an overnight campaign; no record is analysed and nothing is written."""
+    import pipeline.campaigns
+
+    def never(*a, **k):
+        raise AssertionError("a record was analysed")
+
+    monkeypatch.setattr(pipeline.campaigns, "campaign", never)
+    _without(monkeypatch, missing)
+    out = tmp_path / "out"
+    code = main(["campaign", str(SAMPLES / "gr_45deg_0.3ms.csv"), "--out", str(out), *args])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2
+    assert len(err) == 1, err
+    assert f"need {missing}:" in err[0] or f"needs {missing}:" in err[0], err
+    assert "--no-reports" in err[0]
+    assert not out.exists()
+
+
+def test_a_wrong_path_is_told_before_a_missing_extra(tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    _without(monkeypatch, "bokeh", "nbclient")
+    code = main(["campaign", "nowhere/*.csv"])
+    err = capsys.readouterr().err
+    assert code == 2
+    assert "the pattern 'nowhere/*.csv' matches no record file" in err
+
+
+def test_report_without_the_reports_extra_stops_before_the_analysis(
+    tmp_path, capsys, monkeypatch
+):
+    import pipeline.notebook_report
+
+    def never(*a, **k):
+        raise AssertionError("the record was analysed")
+
+    monkeypatch.setattr(pipeline.notebook_report, "record_report", never)
+    _without(monkeypatch, "nbformat")
+    code = main(["report", str(SAMPLES / "gr_45deg_0.3ms.csv"), "--out", str(tmp_path / "r")])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2
+    assert len(err) == 1 and "notebook reports need nbformat" in err[0], err
+
+
 def test_argparse_errors_exit_2(capsys):
     with pytest.raises(SystemExit) as ex:
         main(["campaign", str(SAMPLES), "--workers", "x"])

@@ -86,14 +86,20 @@ def run_campaign(args) -> int:
     from .._atomic import atomic_dir
     from ..campaigns import campaign, record_files, write_campaign
     from ..campaigns.overview import OVERVIEW, require_bokeh, write_overview
+    from ..errors import InputError
+    from ..notebook_report import require_reports
     from ..report import write_manifest
     from ..scene import read_scene_fields
 
     t0 = time.perf_counter()
-    if not (args.no_reports or args.no_html):
-        require_bokeh()  # now, not after the campaign
     base = read_scene_fields(args.scene) if args.scene else None
-    files = record_files(args.paths)
+    files = record_files(args.paths)  # a wrong path is told first, then a missing extra
+    if args.table is not None and not Path(args.table).is_file():
+        raise InputError("no such table file; check the path", path=args.table)
+    if not args.no_reports:  # now, not after the campaign
+        require_reports(execute=True, html=not args.no_html)  # the campaign's is executed
+        if not args.no_html:
+            require_bokeh()
     options = {"n_boot": args.boot, "seed": args.seed}
     load = load_options(args)
     # the whole folder is staged and swapped in with one rename (as pipeline reproduce); the

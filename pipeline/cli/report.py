@@ -45,10 +45,12 @@ def register(sub) -> None:
 def run(args) -> int:
     from .._atomic import atomic_files
     from ..errors import InputError
-    from ..notebook_report import campaign_report, record_report
+    from ..notebook_report import campaign_report, record_report, require_reports
 
     if not args.file.is_file():
         raise InputError("no such file; check the path", path=args.file)
+    # a campaign's report is executed; a record's is rendered here unless --kernel
+    require_reports(execute=args.kernel or args.file.suffix == ".nc", html=not args.no_html)
     load = load_options(args)
     if args.file.suffix == ".nc" and load:
         raise InputError(
