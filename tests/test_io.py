@@ -702,6 +702,10 @@ def test_tdms_units_time_channel_and_groups(tmp_path):
         ),
         ([("Fz", [1.0, np.nan, 3.0], {"unit_string": "N", **WF})], "NaN or infinite"),
         ([("Fz", [1.0], {"unit_string": "N", **WF})], "single sample"),
+        (  # a unit past the float range once in newtons, as the CSV reader refuses it
+            [("Fz", [1.0, 2.0, 1e303], {"unit_string": "MN", **WF})],
+            "'Fz' overflows when converted to newtons (×1e+06)",
+        ),
         ([("Fz", [1.0, 2.0, 3.0], {"unit_string": "V", **WF})], "not a force unit"),
         ([("Fz", [1.0, 2.0, 3.0], {"unit_string": "N", **WF, "wf_increment": 0.0})], "repeats"),
         (

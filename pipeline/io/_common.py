@@ -242,6 +242,22 @@ def check_plane(forces: dict, path) -> None:
         )
 
 
+def to_newtons(values: np.ndarray, factor: float, path, column: str) -> np.ndarray:
+    """``values`` × ``factor`` [N] of the force column ``column`` (``values`` finite),
+    refused (:class:`InputError`) where the product leaves the float range: a unit or a
+    sensitivity typed wrong by orders of magnitude."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        out = values * factor
+    if not np.all(np.isfinite(out)):
+        raise InputError(
+            f"column {column!r} overflows when converted to newtons (×{factor:g}); "
+            "check its unit and sensitivity",
+            path=path,
+            column=column,
+        )
+    return out
+
+
 def first_non_increase(t) -> tuple[int, str] | None:
     """``(i, "repeats" or "goes backwards")`` for the first step ``t[i] → t[i + 1]`` that
     does not go up; ``None`` when ``t`` strictly increases."""

@@ -26,6 +26,7 @@ from ._common import (
     decouple_columns,
     first_non_increase,
     resolve_axes,
+    to_newtons,
 )
 from .sensitivity import by_column, parse_sensitivity, sensitivity_attr
 from .units import resolve_force, resolve_unit
@@ -184,15 +185,7 @@ def table_record(
             channel=feeds.get(key),
         )
         _finite(col, values[key], "force", p)
-        with np.errstate(over="ignore", invalid="ignore"):
-            si[key], units[key] = values[key] * factor, unit
-        if not np.all(np.isfinite(si[key])):
-            raise InputError(
-                f"column {col.name!r} overflows when converted to newtons (×{factor:g}); "
-                "check its unit and sensitivity",
-                path=p,
-                column=col.name,
-            )
+        si[key], units[key] = to_newtons(values[key], factor, p, col.name), unit
     if matrix is not None:  # cross-talk: corrected = M @ raw (Fx, Fy, Fz), in N
         si = decouple_columns(si, matrix, p)
     forces_si = {name: si[key] * sign for name, (key, sign) in chosen.items()}

@@ -39,6 +39,7 @@ from ._common import (
     read_raw,
     resolve_axes,
     scene_attrs,
+    to_newtons,
 )
 from .sensitivity import by_column, parse_sensitivity, sensitivity_attr
 from .units import resolve_force, resolve_unit, signal_factor, split_unit, time_factor
@@ -368,7 +369,7 @@ def read_tdms(
                 path=p,
                 column=ch.name,
             )
-        si[col] = values * factor
+        si[col] = to_newtons(values, factor, p, ch.name)
     if matrix is not None:  # cross-talk: corrected = M @ raw (Fx, Fy, Fz), in N
         si = decouple_columns(si, matrix, p)
     forces = {name: si[col] * sign for name, (col, sign) in chosen.items()}
