@@ -28,11 +28,9 @@ clients and local clusters started here (:func:`open_client`, :func:`local_clust
 from __future__ import annotations
 
 import contextlib
-import ctypes
-import functools
-import gc
 import logging
 
+from .._memory import release
 from ..errors import InputError, OutputError
 
 __all__ = [
@@ -139,29 +137,12 @@ def iter_results(tasks, fn, *, workers=None, scheduler=None, progress=None):
             for i, t in enumerate(tasks):
                 r = fn(t)
                 if i % COLLECT_EVERY == COLLECT_EVERY - 1:
-                    _release()
+                    release()  # the records' cyclic garbage, and the memory it held
                 if progress is not None:
                     progress(r)
                 yield i, r
             return
         yield from _distributed(client, tasks, fn, progress)
-
-
-@functools.cache
-def _malloc_trim():
-    """glibc's ``malloc_trim`` (None where the C library has none: macOS, Windows, musl)."""
-    with contextlib.suppress(OSError, AttributeError, TypeError):
-        return ctypes.CDLL(None).malloc_trim  # the process's own C library
-    return None
-
-
-def _release() -> None:
-    """Free the records' cyclic garbage and hand the memory the allocator then holds free
-    back to the system (module notes)."""
-    gc.collect()
-    trim = _malloc_trim()
-    if trim is not None:
-        trim(0)
 
 
 def _distributed(client, tasks, fn, progress):

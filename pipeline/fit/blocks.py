@@ -48,7 +48,13 @@ the campaign would be serialized as a view and keep the whole array alive for as
 message holds it —
 and a dask client and scheduler keep their recent messages for debugging
 (``distributed.admin.low-level-log-length``, a thousand by default), so an evaluation's
-(records × parameters) derivatives lingered some evaluations after they were used.
+(records × parameters) derivatives lingered some evaluations after they were used. The
+messages' buffers (a chunk's ~1.4 MB, sent and freed some twenty times a hypothesis) left
+the C allocator's heaps ever more scattered: the process's resident memory crept up with
+the evaluations, by ~15 kB a record of the campaign over a joint fit on a 2-worker
+cluster, though Python's own allocations stayed within a few MB; each evaluation on an
+executor now ends by handing the freed memory back (:func:`pipeline._memory.release`),
+and the creep stops (``docs/campaigns.md``).
 
 The covariance is the inverse of the same block matrix at λ = 0, assembled from the blocks
 (the shared block is the inverse of the Schur complement; Golub & Van Loan 2013, §3.2.11),
@@ -66,6 +72,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._memory import release
 from .engine import local_derivatives
 from .procedure import MisfitParts
 from .store import CHUNK, chunk_count, chunks_of, in_order, load_chunk
@@ -210,6 +217,8 @@ def _evaluate(
                     blocks[k] += x
             parts.put(a, p)
         a += n
+    if executor is not None:  # the chunks' messages, freed, handed back (module notes)
+        release(collect=False)
     return _Evaluation(float(sum(chi2.tolist())), chi2, blocks, parts)
 
 
