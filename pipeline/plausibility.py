@@ -186,7 +186,8 @@ def check_plausible(record, scene: Scene, *, window=None) -> Plausibility:
         The impact: mass, speed, angle; ``E`` and ``nu`` for the Hertz checks.
     window : pipeline.window.ContactWindow, optional
         The record's contact window; found with :func:`pipeline.window.find_contact`
-        when not given (its own checks then run too).
+        when not given (its own checks then run too; a discharge the record's sensor
+        states undone, :func:`pipeline.fit.sensor.sensor_spec`).
 
     Returns
     -------
@@ -206,7 +207,11 @@ def check_plausible(record, scene: Scene, *, window=None) -> Plausibility:
     """
     if not isinstance(scene, Scene):
         raise InputError("check_plausible needs a pipeline.Scene describing the impact")
-    win = find_contact(record) if window is None else window
+    win = window
+    if win is None:
+        from .fit.sensor import sensor_spec  # the fits' reading of the record's sensor
+
+        win = find_contact(record, discharge=sensor_spec(record).discharge)
     src = record.attrs.get("source")
     t_unit = str(record.attrs.get("source_time_unit", "s"))
     f_unit = str(record.attrs.get("source_force_unit", "N")).split(",")[0]

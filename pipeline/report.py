@@ -45,6 +45,7 @@ from .advice import advice_for
 from .analysis import Analysis, analyse
 from .errors import InputError
 from .fit import fit_contact
+from .fit.sensor import sensor_spec
 from .io import RECORD_SUFFIXES
 from .percussion import compression_split, percussions
 from .precision import pdg
@@ -179,7 +180,8 @@ def _quiet(fn, *args, **kwargs):
 def _ingest_only(path: Path) -> dict:
     """Summary of a record without a known scene: window, percussions, Poisson e."""
     rec = load_sample(path)
-    win = find_contact(rec)
+    # a discharge the sidecar's or the record's sensor states is undone for the window
+    win = find_contact(rec, discharge=sensor_spec(rec, sensor_from_sidecar(path)).discharge)
     perc = percussions(win)
     split = compression_split(perc, method="closure", source="trapezoid")
     return {

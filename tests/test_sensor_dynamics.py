@@ -334,6 +334,32 @@ def test_analyse_windows_a_leaking_record_with_the_discharge_its_record_states(l
     assert a.outcomes.values["Pn_f"] == pytest.approx(impulse, rel=0.01)
 
 
+def test_the_plausibility_checks_and_an_ingest_window_a_leaking_record_told_its_discharge(
+    leak_ideal, tmp_path
+):
+    """check_plausible (its own window: the discharge the record's sensor_* attributes
+    state) and the summary of a record without a scene (the discharge its sidecar's
+    'sensor' block states) undo the leak as the fits do: the record's percussion is the
+    ideal impulse (refused before, as a pulse the file cuts)."""
+    import json
+
+    from pipeline.io import write_sensor
+    from pipeline.plausibility import check_plausible
+    from pipeline.report import _ingest_only
+
+    rec = to_sensor(leak_ideal, seed=1, discharge=1e-3)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", PipelineWarning)
+        assert check_plausible(rec, LEAK_SCENE).ok
+    impulse = np.trapezoid(leak_ideal["Fn"].values, leak_ideal["time"].values)
+    path = write_sensor(rec, tmp_path / "leak.csv")
+    path.with_suffix(".json").write_text(json.dumps({"sensor": {"discharge": 1e-3}}))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", PipelineWarning)
+        summary = _ingest_only(path)
+    assert summary["Pn_total_Ns"] == pytest.approx(impulse, rel=0.01)
+
+
 @pytest.mark.parametrize("tau,seed", [(1e-3, 5), (2e-3, 4)])
 def test_a_leaking_record_fits_with_its_stated_discharge(leak_ideal, tau, seed):
     """Fitted with the discharge its record states (to_sensor's sensor_* attributes), the
