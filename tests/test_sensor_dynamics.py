@@ -360,6 +360,25 @@ def test_the_plausibility_checks_and_an_ingest_window_a_leaking_record_told_its_
     assert summary["Pn_total_Ns"] == pytest.approx(impulse, rel=0.01)
 
 
+def test_a_simulated_records_sensor_survives_a_sensor_csv(leak_ideal, tmp_path):
+    """The sensor to_sensor describes (filter, ADC, cross-talk matrix, mounted mode,
+    discharge), written by write_sensor and read back, is the sensor the fits are told:
+    the CSV kept the scalars only, under names the fits did not read, so the record read
+    back was fitted with no filter, no ADC, no cross-talk and no discharge."""
+    from pipeline.io import load, write_sensor
+
+    rec = to_sensor(leak_ideal, seed=0, discharge=1e-3, resonance=8e5, damping_ratio=0.03)
+    back = sensor_spec(load(write_sensor(rec, tmp_path / "r.csv")))
+    # the stated inputs (to_sensor's defaults: 300 kHz, order 2, 16 bits over ±5 kN)
+    assert back.bandwidth == pytest.approx(3e5, rel=1e-12) and back.filter_order == 2
+    assert back.quantum == pytest.approx(5000.0 / 2**16, rel=1e-12)
+    assert back.discharge == pytest.approx(1e-3, rel=1e-12)
+    assert back.resonance == pytest.approx(8e5, rel=1e-12)
+    assert back.damping_ratio == pytest.approx(0.03, rel=1e-12)
+    # the cross-talk matrix drawn by the sensor model, as the record in memory holds it
+    np.testing.assert_allclose(back.crosstalk, sensor_spec(rec).crosstalk, rtol=1e-15)
+
+
 @pytest.mark.parametrize("tau,seed", [(1e-3, 5), (2e-3, 4)])
 def test_a_leaking_record_fits_with_its_stated_discharge(leak_ideal, tau, seed):
     """Fitted with the discharge its record states (to_sensor's sensor_* attributes), the

@@ -41,8 +41,10 @@ fit's notes say so.
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import functools
+import json
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -400,6 +402,17 @@ def _from_metadata(attrs) -> dict:
     return out
 
 
+def _written(value):
+    """A ``sensor_*`` attribute as :func:`pipeline.io.write_sensor` wrote it in a sensor
+    CSV's metadata and the reader gave it back: the text of a number or of a JSON list of
+    numbers, as that number or list (other text as it is)."""
+    if not isinstance(value, str):
+        return value
+    with contextlib.suppress(ValueError):
+        return json.loads(value) if value.lstrip().startswith("[") else float(value)
+    return value
+
+
 def sensor_spec(record, sensor=None) -> SensorSpec:
     """The sensor a record was measured with (module notes give the order of sources).
 
@@ -422,12 +435,15 @@ def sensor_spec(record, sensor=None) -> SensorSpec:
             f"got {type(sensor).__name__}"
         )
     else:
-        meta, stated = {}, {}  # one pass: a record carries scores of other attributes
+        meta, stated, written = {}, {}, {}  # one pass: a record carries scores of others
         for k, v in record.attrs.items():
-            if str(k).startswith("meta_"):
+            if str(k).startswith("meta_sensor_"):  # to_sensor's, through a sensor CSV
+                written[k.removeprefix("meta_sensor_")] = _written(v)
+            elif str(k).startswith("meta_"):
                 meta[k] = v
             elif k.startswith("sensor_"):
                 stated[k.removeprefix("sensor_")] = v
+        stated = {**written, **stated}  # the record's own attributes win
         fields = _from_metadata(meta)
         keep = (
             "bandwidth",

@@ -44,6 +44,7 @@ import contextlib
 import csv
 import io
 import itertools
+import json
 import re
 import warnings
 from pathlib import Path
@@ -88,6 +89,14 @@ _WRITE_COLUMNS = (("Ft", "Fx"), ("Fy", "Fy"), ("Fn", "Fz"))
 
 
 # ------------------------------------------------------------------------------ writer
+def _numbers(value) -> bool:
+    """Is ``value`` a list, tuple or array of real numbers?"""
+    if not isinstance(value, list | tuple | np.ndarray) or np.size(value) == 0:
+        return False
+    a = np.asarray(value)
+    return a.dtype.kind in "iuf"
+
+
 def write_sensor(record, path, *, metadata: dict | None = None) -> Path:
     """Write a record as a lab sensor CSV (the dialect :func:`read_sensor` reads).
 
@@ -101,8 +110,11 @@ def write_sensor(record, path, *, metadata: dict | None = None) -> Path:
         :func:`os.replace`).
     metadata : dict, optional
         Extra ``# key: value`` lines. By default the record's string and number attributes
-        are written (``sha256`` excepted: it described the original file; ``meta_<key>``
-        attributes are written under ``<key>``); ``metadata`` adds to or overrides them.
+        are written, lists of numbers as JSON (``sha256`` excepted: it described the
+        original file; ``meta_<key>`` attributes are written under ``<key>``), so that a
+        record of :func:`pipeline.sensor_model.to_sensor` read back states the same sensor
+        to the fits (:func:`pipeline.fit.sensor.sensor_spec`); ``metadata`` adds to or
+        overrides them.
 
     Returns
     -------
@@ -122,6 +134,8 @@ def write_sensor(record, path, *, metadata: dict | None = None) -> Path:
             continue
         if isinstance(value, str | int | float | np.integer | np.floating):
             meta[key.removeprefix("meta_")] = value
+        elif _numbers(value):  # a list of numbers (per axis, a matrix): as JSON
+            meta[key.removeprefix("meta_")] = json.dumps([float(x) for x in np.ravel(value)])
     meta.update(metadata or {})
     lines = []
     for key, value in meta.items():
