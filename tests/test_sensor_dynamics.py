@@ -377,6 +377,9 @@ def test_a_simulated_records_sensor_survives_a_sensor_csv(leak_ideal, tmp_path):
     assert back.damping_ratio == pytest.approx(0.03, rel=1e-12)
     # the cross-talk matrix drawn by the sensor model, as the record in memory holds it
     np.testing.assert_allclose(back.crosstalk, sensor_spec(rec).crosstalk, rtol=1e-15)
+    # a lab's own line of that name, not a number, is not this writer's: left alone
+    lab = write_sensor(rec, tmp_path / "lab.csv", metadata={"sensor_bandwidth": "300 kHz"})
+    assert sensor_spec(load(lab)).bandwidth == pytest.approx(3e5, rel=1e-12)
 
 
 @pytest.mark.parametrize("tau,seed", [(1e-3, 5), (2e-3, 4)])

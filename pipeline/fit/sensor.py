@@ -405,12 +405,13 @@ def _from_metadata(attrs) -> dict:
 def _written(value):
     """A ``sensor_*`` attribute as :func:`pipeline.io.write_sensor` wrote it in a sensor
     CSV's metadata and the reader gave it back: the text of a number or of a JSON list of
-    numbers, as that number or list (other text as it is)."""
+    numbers, as that number or list; None for other text (a lab's own ``sensor_…`` line,
+    ``300 kHz``, is not this writer's, and is left to the metadata's reading)."""
     if not isinstance(value, str):
         return value
     with contextlib.suppress(ValueError):
         return json.loads(value) if value.lstrip().startswith("[") else float(value)
-    return value
+    return None
 
 
 def sensor_spec(record, sensor=None) -> SensorSpec:
@@ -438,7 +439,8 @@ def sensor_spec(record, sensor=None) -> SensorSpec:
         meta, stated, written = {}, {}, {}  # one pass: a record carries scores of others
         for k, v in record.attrs.items():
             if str(k).startswith("meta_sensor_"):  # to_sensor's, through a sensor CSV
-                written[k.removeprefix("meta_sensor_")] = _written(v)
+                if (value := _written(v)) is not None:
+                    written[k.removeprefix("meta_sensor_")] = value
             elif str(k).startswith("meta_"):
                 meta[k] = v
             elif k.startswith("sensor_"):
