@@ -496,6 +496,17 @@ def test_result_surfaces(noisy, tmp_path):
     text = fit.report()
     for word in ("t_c =", "F_max =", "e_t =", "regime", "[[Variables]]"):
         assert word in text
+    # lmfit's report shows the fit's own covariance (systematics and baseline included),
+    # not lmfit's error bars, which are not computed (pipeline.fit.procedure._minimizer)
+    cov, names = fit.cov, fit.vary
+    for i, name in enumerate(names):
+        par = fit.params[name]
+        assert par.stderr == pytest.approx(math.sqrt(cov[i, i]), rel=1e-12), name
+        j = names.index("e")
+        if name != "e":
+            rho = cov[i, j] / math.sqrt(cov[i, i] * cov[j, j])
+            assert par.correl["e"] == pytest.approx(rho, rel=1e-12, abs=1e-15), name
+    assert "+/-" in text and "(init =" in text
     fig = figures.fig_contact_fit(fit)
     gids = {a.get_gid() for a in fig.findobj() if a.get_gid()}
     assert {"model-Fn", "model-Ft", "rigid-Ft", "residual-Ft"} <= gids

@@ -177,9 +177,12 @@ def _circular_blocks(rng, r, b, B):
     starts = rng.integers(0, n, size=(B, nb))
     if b == 1:  # white residuals: each draw is a sample (the same draws, no index arithmetic)
         return r[starts]
-    # the series wrapped once, its windows of b samples: each draw gathers whole blocks
-    windows = np.lib.stride_tricks.sliding_window_view(np.concatenate([r, r[: b - 1]]), b)
-    return windows[starts].reshape(B, -1)[:, :n]
+    # the series wrapped once, its windows of b samples (copied whole: gathering rows of a
+    # contiguous array is several times faster than of the strided view): each draw
+    # gathers whole blocks
+    wrapped = np.concatenate([r, r[: b - 1]])
+    windows = np.lib.stride_tricks.sliding_window_view(wrapped, b).copy()
+    return windows.take(starts, axis=0).reshape(B, -1)[:, :n]
 
 
 def block_bootstrap(
