@@ -173,3 +173,61 @@ def test_forces_between_the_nodes_are_the_hermite_cubic():
         np.testing.assert_allclose(rt[c, inner], want_rt, atol=1e-12 * peak / step)
         for arr in (fn, ftt, rn, rt):  # out of contact
             assert np.all(arr[c, [0, 1, -2, -1]] == 0.0)
+
+
+def test_one_pass_weighting_and_kept_filters_are_the_plain_ones():
+    """What an evaluation keeps or fuses gives the numbers of the plain computation. The
+    residuals and their derivatives weighted in one pass (each channel's rows stacked,
+    whitened by an AR(2) noise model and projected off the fitted baseline together)
+    against :func:`~pipeline.fit.forward.weighted_residuals` of each alone, on the 15°
+    record's Fn and Ft, to 1e-13 of each row's scale (the projection's matrix products
+    round alike to ~1e-16); and the low-pass a record keeps for its later evaluations
+    against the sensor's own sections, also for the same record seen through a first-order
+    filter (:meth:`RecordData.with_sensor`), asked for after and before the second-order one."""
+    import dataclasses
+
+    from scipy.signal import sosfilt
+
+    from pipeline.fit.forward import (
+        _I,
+        ForwardModel,
+        _filtered,
+        _weighted_with_derivatives,
+        prepare,
+        weighted_residuals,
+    )
+    from pipeline.fit.noise import NoiseModel
+
+    scene, rec = _record(15.0, seed=3)
+    data = prepare(rec, scene)
+    ar = NoiseModel(np.array([0.6, -0.2]), 0.8)
+    data = dataclasses.replace(
+        data, channels=tuple(dataclasses.replace(c, noise=ar) for c in data.channels)
+    )
+    assert data.n_nuisance == 4 and data.sensor.filtered
+    P = np.tile(data.nominal(), (3, 1))
+    P[:, [_I["E_eff"], _I["e"], _I["mu"], _I["t0"]]] = [
+        float(scene.E_eff),
+        0.9,
+        0.131,
+        data.window.t_start,
+    ]
+    P[1, _I["e"]] += 1e-6
+    P[2, _I["mu"]] += 1e-6
+    model = ForwardModel()
+    pred, der = model.predict(data, P, model.solve([data], [P])[0], 2)
+    r, dr = _weighted_with_derivatives(data, pred, der)
+    want_r = weighted_residuals(data, pred)
+    want_dr = weighted_residuals(data, der, derivative=True)
+    assert r.shape == want_r.shape and dr.shape == want_dr.shape
+    np.testing.assert_allclose(r, want_r, rtol=0, atol=1e-13 * np.abs(want_r).max())
+    scale = np.abs(want_dr).max(axis=-1, keepdims=True)
+    assert np.all(np.abs(dr - want_dr) <= 1e-13 * scale)
+
+    step = float(data.fine[1] - data.fine[0])
+    first = data.with_sensor(dataclasses.replace(data.sensor, filter_order=1, notes=()))
+    x = np.random.default_rng(5).normal(size=(2, 400))
+    for d in (data, first, data, first):
+        want = sosfilt(d.sensor.sos(step), x, axis=-1)
+        got = _filtered(d, step, d.sensor.bandwidth, x)
+        np.testing.assert_allclose(got, want, rtol=0, atol=1e-13 * np.abs(want).max())

@@ -254,9 +254,9 @@ def local_derivatives(model, datas, Ps, active):
         base = r[:B]
         place = {l: i for i, l in enumerate(act)}
         D = np.empty((B, len(place), n))
-        if fd:
-            pert = r[B:].reshape(len(fd), B, n)
-            D[:, [place[l] for l in fd]] = np.moveaxis((pert - base[None]) / st.T[:, :, None], 0, 1)
+        for j, l in enumerate(fd):  # forward differences, column by column
+            np.subtract(r[B * (j + 1) : B * (j + 2)], base, out=D[:, place[l]])
+            D[:, place[l]] /= st[:, j, None]
         if an:
             D[:, [place[_P[a]] for a in an]] = der
         out_r.append(base)

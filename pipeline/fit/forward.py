@@ -284,6 +284,36 @@ class RecordData:
             "lam": self.lam_of(m),
         }.items():
             object.__setattr__(self, k, float(v))
+        # what the forward model works out from the data alone (the fine grid's step, the
+        # sensor's ring times and filters at the bandwidths asked for): kept for the
+        # record's later evaluations, each computed as the first one computed it
+        object.__setattr__(self, "_memo", {})
+
+    def _ring_time(self, *chain) -> float:
+        """:meth:`SensorSpec.ring_time` at ``chain`` (bandwidth, resonance, ζ, discharge),
+        kept per chain."""
+        key = ("ring",) + chain
+        out = self._memo.get(key)
+        if out is None:
+            out = self._remember(key, self.sensor.ring_time(*chain))
+        return out
+
+    def _lowpass(self, step, bandwidth):
+        """The sensor's low-pass at ``bandwidth`` [Hz] on the fine grid of step ``step`` [s]
+        as :func:`_filtered` applies it: (b, a) of its one second-order section, or its
+        sections (more than one); kept per bandwidth."""
+        key = ("lowpass", step, bandwidth)
+        out = self._memo.get(key)
+        if out is None:
+            sos = self.sensor.sos(step, bandwidth=bandwidth)
+            out = self._remember(key, (sos[0, :3], sos[0, 3:]) if sos.shape[0] == 1 else sos)
+        return out
+
+    def _remember(self, key, value):
+        if len(self._memo) >= 256:  # a fitted bandwidth asks for new ones at every step
+            self._memo.clear()
+        self._memo[key] = value
+        return value
 
     def m_eff_of(self, mass):
         """m* [kg] for a ball of ``mass`` [kg] on this target."""
@@ -630,6 +660,24 @@ def weighted_residuals(data: RecordData, pred, derivative=False):
     return np.concatenate(parts, axis=-1)
 
 
+def _weighted_with_derivatives(data: RecordData, pred, der):
+    """:func:`weighted_residuals` of the model ``pred`` (C, n_c per channel) and of its
+    derivatives ``der`` (nderiv, na, n_c per channel) at once: each channel's residual and
+    derivative rows stacked, whitened and projected in one pass (the rows are independent,
+    so each is what :func:`weighted_residuals` gives it alone)."""
+    ncol = pred[0].shape[0]
+    shape = der[0].shape[:-1]
+    parts = []
+    for c, m, d in zip(data.channels, pred, der, strict=True):
+        r = np.empty((ncol + d[..., 0].size, m.shape[-1]))
+        np.subtract(c.y, m, out=r[:ncol])
+        np.negative(d.reshape(-1, m.shape[-1]), out=r[ncol:])
+        r /= c.sigma
+        parts.append(c.rows(r))
+    out = parts[0] if len(parts) == 1 else np.concatenate(parts, axis=-1)
+    return out[:ncol], out[ncol:].reshape(shape + (out.shape[-1],))
+
+
 @dataclass(frozen=True)
 class Solution:
     """Dimensionless solutions of the unique problems among the columns (internal)."""
@@ -732,7 +780,7 @@ class ForwardModel:
             allrows[:, 2] = 0.0
         uniq, inv = _distinct_rows(allrows)
         e = uniq[:, 0]
-        if not ((e >= E_MIN) & (e <= 1.0)).all():
+        if not (e.min() >= E_MIN and e.max() <= 1.0):  # NaN fails both
             raise InputError(f"restitution outside [{E_MIN}, 1]: {e[(e < E_MIN) | (e > 1)]}")
         pulse = normal_pulse(self.normal, e, self.n_steps)
         tang = None
@@ -885,9 +933,9 @@ class ForwardModel:
         plain = not dynamic.any()  # the low-pass alone: its rows grouped by bandwidth
         if plain:
             row_bw = bw.tolist()
-            ring = data.sensor.ring_time(min(b for b in row_bw if math.isfinite(b)))
+            ring = data._ring_time(min(b for b in row_bw if math.isfinite(b)))
         else:
-            ring = max(data.sensor.ring_time(*row) for row in _distinct_rows(chain)[0])
+            ring = max(data._ring_time(*row) for row in _distinct_rows(chain)[0].tolist())
         end = fine.size if shifted else min(fine.size, hi + int(math.ceil(ring / step)) + 1)
         m, d = self._forces(data, P, sol, fine[lo:hi], names, nderiv, analytic, (ds, T, Fs, v0))
         ncol, nch, na = P.shape[0], len(names), len(analytic)
@@ -907,11 +955,11 @@ class ForwardModel:
             for i, b in enumerate(row_bw):
                 groups.setdefault(b, []).append(i)
             if len(groups) == 1:
-                filt = _filtered(data.sensor, step, row_bw[0], full)[:, :: data.oversample]
+                filt = _filtered(data, step, row_bw[0], full)[:, :: data.oversample]
             else:
                 filt = np.empty((full.shape[0], full[:, :: data.oversample].shape[1]))
                 for b, rows_b in groups.items():
-                    x = _filtered(data.sensor, step, b, full[rows_b])
+                    x = _filtered(data, step, b, full[rows_b])
                     filt[rows_b] = x[:, :: data.oversample]
         else:  # each row through its column's chain (bandwidth, mode, discharge)
             row_chain = np.concatenate(
@@ -994,10 +1042,11 @@ class ForwardModel:
             nd = 0 if nderiv is None else nderiv[i]
             pred = self.predict(d, P, s, nd, ANALYTIC if analytic is None else analytic[i])
             if nd:
-                pred, der = pred
-            out.append(weighted_residuals(d, pred))
-            if nd:
-                ders.append(weighted_residuals(d, der, derivative=True))
+                r, dr = _weighted_with_derivatives(d, *pred)
+                out.append(r)
+                ders.append(dr)
+            else:
+                out.append(weighted_residuals(d, pred))
         return (out, sols, ders) if nderiv is not None else (out, sols)
 
     # -------------------------------------------------------------- physics
@@ -1048,17 +1097,17 @@ class ForwardModel:
         }
 
 
-def _filtered(spec, step, bandwidth, x):
-    """``x`` (rows, n) on the fine grid of step ``step`` [s] through the sensor's low-pass at
-    ``bandwidth`` [Hz] (none where infinite). One second-order section goes through
-    :func:`scipy.signal.lfilter` as its transfer function (the same recursion, a third of
-    :func:`~scipy.signal.sosfilt`'s overhead), more sections through ``sosfilt``."""
+def _filtered(data, step, bandwidth, x):
+    """``x`` (rows, n) on the fine grid of step ``step`` [s] through the low-pass of
+    ``data``'s sensor at ``bandwidth`` [Hz] (none where infinite). One second-order section
+    goes through :func:`scipy.signal.lfilter` as its transfer function (the same recursion,
+    a third of :func:`~scipy.signal.sosfilt`'s overhead), more sections through ``sosfilt``."""
     if not math.isfinite(bandwidth):
         return x
-    sos = spec.sos(step, bandwidth=bandwidth)
-    if sos.shape[0] == 1:
-        return lfilter(sos[0, :3], sos[0, 3:], x, axis=-1)
-    return sosfilt(sos, x, axis=-1)
+    f = data._lowpass(step, bandwidth)
+    if isinstance(f, tuple):
+        return lfilter(*f, x, axis=-1)
+    return sosfilt(f, x, axis=-1)
 
 
 def _cubic_steps(y, dy, step, kink=None):
