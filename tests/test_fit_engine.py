@@ -181,9 +181,12 @@ def test_one_pass_weighting_and_kept_filters_are_the_plain_ones():
     whitened by an AR(2) noise model and projected off the fitted baseline together)
     against :func:`~pipeline.fit.forward.weighted_residuals` of each alone, on the 15°
     record's Fn and Ft, to 1e-13 of each row's scale (the projection's matrix products
-    round alike to ~1e-16); and the low-pass a record keeps for its later evaluations
-    against the sensor's own sections, also for the same record seen through a first-order
-    filter (:meth:`RecordData.with_sensor`), asked for after and before the second-order one."""
+    round alike to ~1e-16); and the filtered samples of a force that ends (the recursion
+    over the force, then the filter's free response a record keeps) against the sensor's
+    own sections run over the force and the zeros after it, to 1e-13 of the peak, for the
+    record's second-order low-pass and for the same record seen through a first- and a
+    third-order one (:meth:`RecordData.with_sensor`; each asked for again after the others),
+    at each phase of the samples after the force's end."""
     import dataclasses
 
     from scipy.signal import sosfilt
@@ -191,7 +194,7 @@ def test_one_pass_weighting_and_kept_filters_are_the_plain_ones():
     from pipeline.fit.forward import (
         _I,
         ForwardModel,
-        _filtered,
+        _sampled,
         _weighted_with_derivatives,
         prepare,
         weighted_residuals,
@@ -226,8 +229,11 @@ def test_one_pass_weighting_and_kept_filters_are_the_plain_ones():
 
     step = float(data.fine[1] - data.fine[0])
     first = data.with_sensor(dataclasses.replace(data.sensor, filter_order=1, notes=()))
-    x = np.random.default_rng(5).normal(size=(2, 400))
-    for d in (data, first, data, first):
-        want = sosfilt(d.sensor.sos(step), x, axis=-1)
-        got = _filtered(d, step, d.sensor.bandwidth, x)
-        np.testing.assert_allclose(got, want, rtol=0, atol=1e-13 * np.abs(want).max())
+    third = data.with_sensor(dataclasses.replace(data.sensor, filter_order=3, notes=()))
+    x = np.random.default_rng(5).normal(size=(2, 403))
+    for d in (data, first, third, data, first, third):
+        for m in (403, 401, 398):  # each phase of the free response against the samples
+            padded = np.concatenate([x[:, :m], np.zeros((2, 1500))], axis=1)
+            want = sosfilt(d.sensor.sos(step), padded, axis=-1)[:, :: d.oversample]
+            got = _sampled(d, step, d.sensor.bandwidth, x[:, :m], padded.shape[1])
+            np.testing.assert_allclose(got, want, rtol=0, atol=1e-13 * np.abs(want).max())

@@ -372,16 +372,16 @@ class _Impact:
         w = np.sqrt(k)
         t1, t2 = col(self.tau_y), col(self.tau_y + self.s_m)
         L = (col(self.e) ** 2 / col(self.rho)) ** 0.4  # the unloading's length (U²/ρ)^{2/5}
-        # loading (Hertz): the canonical half-pulse
-        x1, u1 = _hertz_rise(np.clip(tau / _HALF, 0.0, 1.0))
+        # loading (Hertz): the canonical half-pulse; unloading: the rise of a Hertz impact
+        # of speed e on ρ, run backwards (both rises looked up at once)
+        U = col(self.e)
+        (x1, z3), (u1, u3) = _hertz_rise(
+            np.clip(np.stack([tau / _HALF, (col(self.tau_c) - tau) * U / L / _HALF]), 0.0, 1.0)
+        )
         # the plastic stretch
         ph = w * np.maximum(tau - t1, 0.0) - th
         x2 = xy / 3.0 + A * np.cos(ph)
         u2 = -A * w * np.sin(ph)
-        # unloading: the rise of a Hertz impact of speed e on ρ, run backwards
-        U = col(self.e)
-        back = np.clip((col(self.tau_c) - tau) * U / L / _HALF, 0.0, 1.0)
-        z3, u3 = _hertz_rise(back)
         xp = col(self.xp)
         x3, u3 = xp + L * z3, -U * u3
         rho = col(self.rho)
@@ -434,8 +434,8 @@ def _impact(r) -> _Impact:
 @functools.cache
 def _rise_table(n=4096):
     """Nodes of the canonical Hertz rise (x'' = −x^{3/2}, x(0) = 0, x'(0) = 1) on n equal
-    steps of s = τ/τ_half: x and u = x' (exact, from the inverse incomplete beta function;
-    :func:`pipeline.contact.hertz_pulse`)."""
+    steps of s = τ/τ_half: x, u = x' (exact, from the inverse incomplete beta function;
+    :func:`pipeline.contact.hertz_pulse`) and u' = −x^{3/2}."""
     from scipy import special
 
     s = np.linspace(0.0, 1.0, n + 1)
@@ -443,20 +443,21 @@ def _rise_table(n=4096):
     w[-1] = 1.0
     x = (1.25 * w) ** 0.4
     u = np.sqrt(np.maximum(1.0 - w, 0.0))
-    return x, u
+    return x, u, -(x**1.5)  # x, u and u' = −x^{3/2}
 
 
 def _hertz_rise(s):
     """(x, u) of the canonical Hertz rise at s = τ/τ_half ∈ [0, 1]: cubic Hermite
     interpolation of :func:`_rise_table` (values and rates; ~1e-13 of δ*)."""
-    x, u = _rise_table()
+    x, u, a = _rise_table()
     n = x.size - 1
     h = _HALF / n
     p = np.asarray(s, dtype=float) * n
-    i = np.clip(np.floor(p).astype(np.intp), 0, n - 1)
+    i = np.floor(p).astype(np.intp)
+    np.minimum(np.maximum(i, 0, out=i), n - 1, out=i)  # np.clip's checks cost more
     t = p - i
     x0, x1, u0, u1 = x[i], x[i + 1], u[i], u[i + 1]
-    a0, a1 = -(x0**1.5), -(x1**1.5)  # u' = −x^{3/2}
+    a0, a1 = a[i], a[i + 1]
     t2, t3 = t * t, t * t * t
     h00, h10, h01, h11 = 2 * t3 - 3 * t2 + 1, t3 - 2 * t2 + t, -2 * t3 + 3 * t2, t3 - t2
     xs = h00 * x0 + h10 * h * u0 + h01 * x1 + h11 * h * u1
