@@ -149,6 +149,9 @@ _CHAIN = np.array([_I[k] for k in CHAIN_PARAMS])
 _SHIFT = np.array([_I["shift_n"], _I["shift_t"]])
 #: The analytic parameters that mix the axes (their derivatives: :meth:`ForwardModel._dmix`).
 _MIXING = ("gain_n", "gain_t", "leak", "leak_tn")
+#: Their columns among :data:`PARAMS`, and their values where the axes do not mix.
+_AXES = np.array([_I[k] for k in _MIXING])
+_AXES_NONE = np.array([1.0, 1.0, 0.0, 0.0])
 #: Local parameters whose derivatives the forward model gives in closed form (they scale,
 #: stretch, shift or mix the pulse: no new tangential solution); the others by differences.
 ANALYTIC = ("E_eff", "t0", "mass", "radius", "gain_n", "gain_t", "leak", "leak_tn", "time_base")
@@ -870,7 +873,14 @@ class ForwardModel:
         need_t = "Ft" in names or (data.sensor.crosstalk is not None and self.tangential != "none")
         res = self._true_forces(sol, tau, need_t, nderiv)
         fn, ft = res[0] * Fs[:, None], None if res[1] is None else res[1] * Fs[:, None]
-        mixed = self._mix(data.sensor.crosstalk, P, fn, ft, names)
+        C = data.sensor.crosstalk
+        # the axes as the forces are (no cross-talk, gains 1, leaks 0): nothing to mix
+        same = (
+            C is None
+            and (ft is not None or "Ft" not in names)
+            and not (P[:, _AXES] - _AXES_NONE).any()
+        )
+        mixed = [fn if n == "Fn" else ft for n in names] if same else self._mix(C, P, fn, ft, names)
         if not nderiv:
             return mixed, None
         b = slice(0, nderiv)
@@ -909,7 +919,9 @@ class ForwardModel:
                     der[:, i] = self._dmix(data.sensor.crosstalk, Pb, fn[b], ft, name, a)
                     continue
                 dn, dt = parts["n"][a], None if parts["t"] is None else parts["t"][a]
-                der[:, i] = self._mix(data.sensor.crosstalk, Pb, dn, dt, [name])[0]
+                der[:, i] = (
+                    (dn if name == "Fn" else dt) if same else self._mix(C, Pb, dn, dt, [name])[0]
+                )
             out.append(der)
         return mixed, out
 

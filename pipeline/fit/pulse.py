@@ -215,6 +215,10 @@ class PulseTable:
         )
 
 
+#: The two Gauss–Legendre points of a step, as fractions of it.
+_GAUSS = 0.5 + np.array([-1.0, 1.0]) * np.sqrt(3.0) / 6.0
+
+
 def _check_e(e):
     e = np.atleast_1d(np.asarray(e, dtype=float))
     # the extremes (NaN fails both); a fit asks at every evaluation, so no masks
@@ -242,10 +246,12 @@ class PlasticPulses:
         n = self.n_steps
         h = imp.tau_c[:, None] / n
         tau = h * np.arange(n + 1)
-        g = 0.5 + np.array([-1.0, 1.0]) * np.sqrt(3.0) / 6.0  # Gauss–Legendre points
         # the nodes and both Gauss points of every step in one evaluation of the state
-        x, u, f, df = imp.state(np.concatenate([tau] + [tau[:, :-1] + gi * h for gi in g], 1))
-        xg = np.stack([x[:, n + 1 : 2 * n + 1], x[:, 2 * n + 1 :]], axis=1)
+        inner = tau[:, :-1]
+        x, u, f, df = imp.state(
+            np.concatenate([tau, inner + _GAUSS[0] * h, inner + _GAUSS[1] * h], 1)
+        )
+        xg = x[:, n + 1 :].reshape(-1, 2, n)
         x, u, f, df = (np.ascontiguousarray(a[:, : n + 1]) for a in (x, u, f, df))
         x[:, 0], u[:, 0], f[:, 0] = 0.0, 1.0, 0.0
         f[:, -1] = 0.0  # the contact ends where the force does (at δ_p > 0)
