@@ -502,9 +502,9 @@ def bounds(problem, theta, data, model, *, mode=True, discharge=True) -> dict:
         trials.append(("discharge", _TAU_BOUND * dur, {}))
     out = {}
     names = [problem.design.names[i] for i in problem.vary]
-    own = model.predict(data, P, sol)
+    own, span = model.predict(data, P, sol), _Span(data, model, P, sol)
     for name, values, fixed in trials:
-        rows = _trial_rows(data, model, P, sol, name, values, fixed, own)
+        rows = _trial_rows(data, model, P, sol, name, values, fixed, own, span)
         perp = rows - (rows @ Q) @ Q.T
         dchi2 = np.einsum("kn,kn->k", perp, perp) - 2.0 * perp @ r
         allowed = dchi2 <= _EXCLUDED
@@ -519,55 +519,80 @@ def bounds(problem, theta, data, model, *, mode=True, discharge=True) -> dict:
     return out
 
 
-def _trial_rows(data, model, P, sol, name, values, fixed, own=None) -> np.ndarray:
+class _Span:
+    """The fit's forces before the chain (channels, span) on the fine grid from the contact's
+    onset to its end (and a zero shift's course), its place on the record's samples, and
+    each pole's response to them, computed once for every trial chain that has the pole
+    (the low-pass's poles are in all of them): internal to :func:`_trial_rows`."""
+
+    def __init__(self, data, model, P, sol):
+        names = [c.name for c in data.channels]
+        scales = model.scales(data, P)
+        t0 = float(P[0, _I["t0"]])
+        fine, over = data.fine, data.oversample
+        t_end = t0 + float(sol.pulse.tau_c[sol.index[0]] * scales[1][0])
+        shift = [float(P[0, _I[SHIFT_OF[n]]]) for n in names]
+        at, width = float(P[0, _I["shift_at"]]), float(P[0, _I["shift_width"]])
+        first, last = t0, t_end
+        if any(shift):
+            first, last = min(t0, at - 0.5 * width), max(t_end, at + 0.5 * width)
+        lo = max(int(np.searchsorted(fine, first)) - 1, 0)
+        hi = min(int(np.searchsorted(fine, last)) + 1, fine.size)
+        lo -= lo % over  # start on a sample instant
+        forces, _ = model._forces(data, P[:1], sol, fine[lo:hi], names, 0, scales=scales)
+        x = np.concatenate(forces)  # (channels, span)
+        if any(shift):
+            ramp = zero_shift(fine[None, lo:hi], at, width)
+            x = x + np.array(shift)[:, None] * ramp
+        self.x, self.complex = x, None
+        self.k0 = lo // over
+        self.n_span = (hi - lo - 1) // over + 1  # sample instants in the span
+        self.n_after = data.n_grid - self.k0 - self.n_span
+        self.lag = over * self.n_span - (hi - lo - 1)  # fine steps from the span's end to the next sample
+        self.step = float(fine[1] - fine[0])
+        self._responses = {}
+
+    def response(self, q, two):
+        """w = (1 − z⁻¹)/(1 − q z⁻¹) applied to the forces (complex where ``two``)."""
+        key = (complex(q), bool(two))
+        if key not in self._responses:
+            if two and self.complex is None:
+                self.complex = self.x.astype(complex)
+            x = self.complex if two else self.x
+            self._responses[key] = lfilter([1.0, -1.0], [1.0, -q], x, axis=-1)
+        return self._responses[key]
+
+
+def _trial_rows(data, model, P, sol, name, values, fixed, own=None, span=None) -> np.ndarray:
     """The fit's rows (whitened, as :func:`pipeline.fit.forward.weighted_residuals`) of the
     model's change when the sensor's ``name`` takes each of ``values`` (K,), the chain's
     ``fixed`` parameters with it, from the fit's column ``P`` (1, …) and solution ``sol``
-    (``own``: the model there, :meth:`~pipeline.fit.forward.ForwardModel.predict`, where
-    already computed): (K, n_data).
+    (``own``: the model there, :meth:`~pipeline.fit.forward.ForwardModel.predict`, and
+    ``span``: a :class:`_Span` of them, where already computed): (K, n_data).
 
     What :meth:`~pipeline.fit.forward.ForwardModel.predict` gives for the trials less the
     fit's own, without its work per trial: the force before the chain is the same for every
     trial (computed once), and each trial's chain (:meth:`pipeline.fit.sensor.SensorSpec.chain`,
     a sum of first-order recursions, one per pole) runs only while the force changes —
     after the contact (and a zero shift's course) it is constant, and each pole's state
-    decays as q^k in closed form."""
+    decays as q^k in closed form; a pole the trials share (the low-pass's) runs once."""
     names = [c.name for c in data.channels]
     chain = dict(zip(CHAIN_PARAMS, (float(P[0, _I[k]]) for k in CHAIN_PARAMS), strict=True))
-    scales = model.scales(data, P)
-    t0 = float(P[0, _I["t0"]])
-    fine, over = data.fine, data.oversample
-    t_end = t0 + float(sol.pulse.tau_c[sol.index[0]] * scales[1][0])
-    shift = [float(P[0, _I[SHIFT_OF[n]]]) for n in names]
-    at, width = float(P[0, _I["shift_at"]]), float(P[0, _I["shift_width"]])
-    first, last = t0, t_end
-    if any(shift):
-        first, last = min(t0, at - 0.5 * width), max(t_end, at + 0.5 * width)
-    lo = max(int(np.searchsorted(fine, first)) - 1, 0)
-    hi = min(int(np.searchsorted(fine, last)) + 1, fine.size)
-    lo -= lo % over  # start on a sample instant
-    forces, _ = model._forces(data, P[:1], sol, fine[lo:hi], names, 0, scales=scales)
-    x = np.concatenate(forces)  # (channels, span)
-    if any(shift):
-        ramp = zero_shift(fine[None, lo:hi], at, width)
-        x = x + np.array(shift)[:, None] * ramp
-    k0 = lo // over
-    n_span = (hi - lo - 1) // over + 1  # sample instants in the span
-    n_after = data.n_grid - k0 - n_span
-    lag = over * n_span - (hi - lo - 1)  # fine steps from the span's end to the next sample
-    step = float(fine[1] - fine[0])
+    span = _Span(data, model, P, sol) if span is None else span
+    x, k0, n_span, n_after = span.x, span.k0, span.n_span, span.n_after
+    over = data.oversample
     out = np.zeros((values.size, len(names), data.n_grid))
     states, ratios, owner = [], [], []  # each pole's state at the first sample after the span
     for j, value in enumerate(values):
-        filt = data.sensor.chain(step, **{**chain, **fixed, name: float(value)})
+        filt = data.sensor.chain(span.step, **{**chain, **fixed, name: float(value)})
         y = filt.direct * x
         out[j, :, k0 + n_span :] = filt.direct * x[:, -1:]
         for q, c, two in zip(filt.poles, filt.gains, filt.pair, strict=True):
             if not two:  # a real pole
                 q, c = q.real, c.real
-            w = lfilter([1.0, -1.0], [1.0, -q], x.astype(complex) if two else x, axis=-1)
+            w = span.response(q, two)
             y = y + (2.0 * (c * w).real if two else c * w)
-            states.append((2.0 if two else 1.0) * c * w[:, -1] * q**lag)
+            states.append((2.0 if two else 1.0) * c * w[:, -1] * q**span.lag)
             ratios.append(q**over)
             owner.append(j)
         out[j, :, k0 : k0 + n_span] = y[:, ::over]
@@ -580,7 +605,9 @@ def _trial_rows(data, model, P, sol, name, values, fixed, own=None) -> np.ndarra
             out=powers[:, 1:],
         )
         decay = (np.array(states)[:, :, None] * powers[:, None, :]).real
-        np.add.at(out[:, :, k0 + n_span :], np.array(owner), decay)
+        tail = out[:, :, k0 + n_span :]
+        for j, d in zip(owner, decay, strict=True):  # each trial's poles in turn
+            tail[j] += d
     own = model.predict(data, P[:1], sol) if own is None else own
     change = [data.at_channel(out[:, i], i) - own[i][:1] for i in range(len(names))]
     return -weighted_residuals(data, change, derivative=True)
