@@ -63,7 +63,7 @@ from .forward import (
     CHAIN_PARAMS,
     SHIFT_OF,
     SYSTEMATIC_PARAMS,
-    Solution,
+    _filtered,
     weighted_residuals,
     zero_shift,
 )
@@ -158,7 +158,7 @@ def screen(problem, theta, data, model, *, mode=True, discharge=True, shift=True
         if col is not None:
             columns["discharge"] = (tau, col)
     if shift and stepped:
-        columns.update(_shift_columns(r, data, model, P, sol, Q, t_end, stepped))
+        columns.update(_shift_columns(r, data, P, Q, t_end, stepped))
     best, gain = _best_subset(r, columns, scores, steps)
     found_tau, found_shift = None, {}
     for k in best:
@@ -245,20 +245,50 @@ _SHIFT_AT = np.linspace(0.05, 0.95, 19)
 _SHIFT_WIDTH = (0.02, 0.08, 0.2, 0.4, 0.7)
 
 
-def _changes(data, model, P, sol, Q, which, values):
-    """The model's change, whitened and projected off the Jacobian's columns, when the
-    parameters ``which`` take each row of ``values`` (K, len(which)): (K, n)."""
-    K = values.shape[0]
-    Pk = np.repeat(P, K + 1, axis=0)
-    for j, name in enumerate(which):
-        Pk[1:, _I[name]] = values[:, j]
-    sk = Solution(sol.pulse, sol.tang, np.repeat(sol.index[:1], K + 1))
-    pred = model.predict(data, Pk, sk)
-    rows = -weighted_residuals(data, [m[1:] - m[:1] for m in pred], derivative=True)
-    return rows - (rows @ Q) @ Q.T
+def _shift_rows(data, P, param, grid) -> np.ndarray:
+    """The fit's rows (whitened, as :func:`pipeline.fit.forward.weighted_residuals`) of the
+    model's change when the zero shift ``param`` is 1 N and takes each course of ``grid``
+    (K, 2: the instant it is half done [s], the time it takes [s]), the other channel's
+    shift keeping its size on the same course, from the fit's column ``P`` (1, …): (K, n_data).
+
+    What :meth:`~pipeline.fit.forward.ForwardModel.predict` gives for the trials less the
+    fit's own, without the forces: the chain is linear and the same in every trial, so the
+    change is its response to the change of the shift alone, all trials in one call, on
+    the channels that change, and only until the chain's ringing after the last course has
+    decayed below 1e-16 (:meth:`pipeline.fit.sensor.SensorSpec.ring_time`): it then holds."""
+    names = [c.name for c in data.channels]
+    fine, over = data.fine, data.oversample
+    size = np.array([float(P[0, _I[SHIFT_OF[n]]]) for n in names])
+    at, width = float(P[0, _I["shift_at"]]), float(P[0, _I["shift_width"]])
+    first = float(np.min(grid[:, 0] - 0.5 * grid[:, 1]))
+    last = float(np.max(grid[:, 0] + 0.5 * grid[:, 1]))
+    if size.any():
+        first, last = min(first, at - 0.5 * width), max(last, at + 0.5 * width)
+    bw, fn, zeta, tau = (float(P[0, _I[k]]) for k in CHAIN_PARAMS)
+    step = float(fine[1] - fine[0])
+    lo = max(int(np.searchsorted(fine, first)) - 1, 0)
+    lo -= lo % over  # start on a sample instant
+    hi = min(int(np.searchsorted(fine, last)) + 1, fine.size)
+    end = min(fine.size, hi + int(math.ceil(data.sensor.ring_time(bw, fn, zeta, tau) / step)) + 1)
+    changed = [i for i, n in enumerate(names) if SHIFT_OF[n] == param or size[i]]
+    t = fine[None, lo:end]
+    x = np.where([SHIFT_OF[names[i]] == param for i in changed], 1.0, size[changed])[:, None]
+    x = x * zero_shift(t, grid[:, :1], grid[:, 1:])[:, None]  # (K, changed, span)
+    if size.any():
+        x -= size[changed, None] * zero_shift(t, at, width)
+    if math.isfinite(fn) or math.isfinite(tau):  # as the forward model runs the chain
+        x = data.sensor.chain(step, bw, fn, zeta, tau)(x, axis=-1)
+    else:
+        x = _filtered(data.sensor, step, bw, x)
+    out = np.zeros((grid.shape[0], len(names), data.n_grid))
+    k0, n_in = lo // over, (end - lo - 1) // over + 1
+    out[:, changed, k0 : k0 + n_in] = x[..., ::over]
+    out[:, changed, k0 + n_in :] = x[..., -1:]  # settled
+    change = [data.at_channel(out[:, i], i) for i in range(len(names))]
+    return -weighted_residuals(data, change, derivative=True)
 
 
-def _shift_columns(r, data, model, P, sol, Q, t_end, channels) -> dict:
+def _shift_columns(r, data, P, Q, t_end, channels) -> dict:
     """{channel: ((its parameter, at [s], width [s]), its column)} — each of ``channels``'
     trial zero shift of 1 N whose course explains most (module notes)."""
     t0 = float(P[0, _I["t0"]])
@@ -269,8 +299,8 @@ def _shift_columns(r, data, model, P, sol, Q, t_end, channels) -> dict:
         if c.name not in channels:
             continue
         param = SHIFT_OF[c.name]
-        values = np.column_stack([np.ones(len(grid)), grid])
-        rows = _changes(data, model, P, sol, Q, (param, "shift_at", "shift_width"), values)
+        rows = _shift_rows(data, P, param, grid)
+        rows -= (rows @ Q) @ Q.T
         norm = np.einsum("kn,kn->k", rows, rows)
         gain = np.where(norm > 0, (rows @ r) ** 2 / np.where(norm > 0, norm, 1.0), -np.inf)
         k = int(np.argmax(gain))
@@ -283,7 +313,8 @@ def _discharge_column(r, data, model, P, sol, Q, t_end):
     projected off the Jacobian) — a discharge shows as an undershoot after the pulse."""
     dur = max(t_end - float(P[0, _I["t0"]]), 1e-300)
     taus = _TAU_GRID * dur
-    rows = _changes(data, model, P, sol, Q, ("discharge",), taus[:, None])
+    rows = _trial_rows(data, model, P, sol, "discharge", taus, {})
+    rows -= (rows @ Q) @ Q.T
     norm = np.einsum("kn,kn->k", rows, rows)
     ok = norm > 0
     if not np.any(ok):
@@ -548,7 +579,8 @@ class _Span:
         self.k0 = lo // over
         self.n_span = (hi - lo - 1) // over + 1  # sample instants in the span
         self.n_after = data.n_grid - self.k0 - self.n_span
-        self.lag = over * self.n_span - (hi - lo - 1)  # fine steps from the span's end to the next sample
+        # fine steps from the span's end to the next sample
+        self.lag = over * self.n_span - (hi - lo - 1)
         self.step = float(fine[1] - fine[0])
         self._responses = {}
 
