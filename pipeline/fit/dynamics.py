@@ -552,9 +552,8 @@ def bounds(problem, theta, data, model, *, mode=True, discharge=True) -> dict:
 
 class _Span:
     """The fit's forces before the chain (channels, span) on the fine grid from the contact's
-    onset to its end (and a zero shift's course), its place on the record's samples, and
-    each pole's response to them, computed once for every trial chain that has the pole
-    (the low-pass's poles are in all of them): internal to :func:`_trial_rows`."""
+    onset to its end (and a zero shift's course) and their place on the record's samples:
+    what every trial chain of :func:`_trial_rows` takes in."""
 
     def __init__(self, data, model, P, sol):
         names = [c.name for c in data.channels]
@@ -575,24 +574,13 @@ class _Span:
         if any(shift):
             ramp = zero_shift(fine[None, lo:hi], at, width)
             x = x + np.array(shift)[:, None] * ramp
-        self.x, self.complex = x, None
+        self.x = x
         self.k0 = lo // over
         self.n_span = (hi - lo - 1) // over + 1  # sample instants in the span
         self.n_after = data.n_grid - self.k0 - self.n_span
         # fine steps from the span's end to the next sample
         self.lag = over * self.n_span - (hi - lo - 1)
         self.step = float(fine[1] - fine[0])
-        self._responses = {}
-
-    def response(self, q, two):
-        """w = (1 − z⁻¹)/(1 − q z⁻¹) applied to the forces (complex where ``two``)."""
-        key = (complex(q), bool(two))
-        if key not in self._responses:
-            if two and self.complex is None:
-                self.complex = self.x.astype(complex)
-            x = self.complex if two else self.x
-            self._responses[key] = lfilter([1.0, -1.0], [1.0, -q], x, axis=-1)
-        return self._responses[key]
 
 
 def _trial_rows(data, model, P, sol, name, values, fixed, own=None, span=None) -> np.ndarray:
@@ -605,41 +593,53 @@ def _trial_rows(data, model, P, sol, name, values, fixed, own=None, span=None) -
     What :meth:`~pipeline.fit.forward.ForwardModel.predict` gives for the trials less the
     fit's own, without its work per trial: the force before the chain is the same for every
     trial (computed once), and each trial's chain (:meth:`pipeline.fit.sensor.SensorSpec.chain`,
-    a sum of first-order recursions, one per pole) runs only while the force changes —
-    after the contact (and a zero shift's course) it is constant, and each pole's state
-    decays as q^k in closed form; a pole the trials share (the low-pass's) runs once."""
+    a sum of first-order recursions, one per pole, :class:`pipeline.sensor_model.FohFilter`)
+    runs only while the force changes — after the contact (and a zero shift's course) it is
+    constant, and each pole's state decays as q^k in closed form. Each distinct pole runs
+    once (the low-pass's is in every trial), the trials' sums are taken all at once."""
     names = [c.name for c in data.channels]
     chain = dict(zip(CHAIN_PARAMS, (float(P[0, _I[k]]) for k in CHAIN_PARAMS), strict=True))
     span = _Span(data, model, P, sol) if span is None else span
     x, k0, n_span, n_after = span.x, span.k0, span.n_span, span.n_after
     over = data.oversample
+    filts = [data.sensor.chain(span.step, **{**chain, **fixed, name: float(v)}) for v in values]
+    slots = max(f.poles.size for f in filts)
+    # the trials' poles side by side (K, slots), those a trial lacks of zero gain
+    q = np.zeros((values.size, slots), dtype=complex)
+    coef = np.zeros_like(q)  # each pole's part of the output is Re(coef·w)
+    pair = np.zeros(q.shape, dtype=bool)
+    for j, f in enumerate(filts):
+        m = f.poles.size
+        q[j, :m], pair[j, :m] = f.poles, f.pair
+        coef[j, :m] = np.where(f.pair, 2.0 * f.gains, f.gains.real)
+    q = np.where(pair, q, q.real)  # a real pole's recursion runs on real numbers
+    poles, which = np.unique(q, return_inverse=True)
+    which = which.reshape(q.shape)
+    xc = x.astype(complex)
+    w = np.empty((poles.size,) + x.shape, dtype=complex)
+    for i, p in enumerate(poles):
+        real = p.imag == 0.0
+        w[i] = lfilter([1.0, -1.0], [1.0, -(p.real if real else p)], x if real else xc, axis=-1)
+    direct = np.array([f.direct for f in filts])[:, None, None]
+    y = direct * x[:, ::over]
+    for i in range(slots):
+        y = y + (coef[:, i, None, None] * w[which[:, i], :, ::over]).real
     out = np.zeros((values.size, len(names), data.n_grid))
-    states, ratios, owner = [], [], []  # each pole's state at the first sample after the span
-    for j, value in enumerate(values):
-        filt = data.sensor.chain(span.step, **{**chain, **fixed, name: float(value)})
-        y = filt.direct * x
-        out[j, :, k0 + n_span :] = filt.direct * x[:, -1:]
-        for q, c, two in zip(filt.poles, filt.gains, filt.pair, strict=True):
-            if not two:  # a real pole
-                q, c = q.real, c.real
-            w = span.response(q, two)
-            y = y + (2.0 * (c * w).real if two else c * w)
-            states.append((2.0 if two else 1.0) * c * w[:, -1] * q**span.lag)
-            ratios.append(q**over)
-            owner.append(j)
-        out[j, :, k0 : k0 + n_span] = y[:, ::over]
-    if n_after > 0 and states:  # the states decay by q^oversample a sample: powers at once
-        powers = np.empty((len(ratios), n_after), dtype=complex)
+    out[:, :, k0 : k0 + n_span] = y
+    if n_after > 0:  # each state decays by q^oversample a sample: the powers at once
+        real = poles.imag == 0.0
+        ratio = np.where(real, poles.real**over, poles**over)
+        lag = np.where(real, poles.real**span.lag, poles**span.lag)
+        powers = np.empty((poles.size, n_after), dtype=complex)
         powers[:, 0] = 1.0
         np.cumprod(
-            np.broadcast_to(np.array(ratios, dtype=complex)[:, None], (len(ratios), n_after - 1)),
-            axis=1,
-            out=powers[:, 1:],
+            np.broadcast_to(ratio[:, None], (poles.size, n_after - 1)), axis=1, out=powers[:, 1:]
         )
-        decay = (np.array(states)[:, :, None] * powers[:, None, :]).real
-        tail = out[:, :, k0 + n_span :]
-        for j, d in zip(owner, decay, strict=True):  # each trial's poles in turn
-            tail[j] += d
+        tail = direct * x[:, -1:]
+        for i in range(slots):
+            state = coef[:, i, None] * w[which[:, i], :, -1] * lag[which[:, i], None]
+            tail = tail + (state[:, :, None] * powers[which[:, i], None, :]).real
+        out[:, :, k0 + n_span :] = tail
     own = model.predict(data, P[:1], sol) if own is None else own
     change = [data.at_channel(out[:, i], i) - own[i][:1] for i in range(len(names))]
     return -weighted_residuals(data, change, derivative=True)
