@@ -475,32 +475,71 @@ def test_the_screen_finds_the_ring_at_the_mode_s_damped_frequency():
     assert fit.dynamics["ring_chi2"] > fit.dynamics["ring_threshold"]
 
 
-def test_the_bound_s_trial_changes_are_the_forward_model_s():
-    """The bound's trials (:func:`pipeline.fit.dynamics.bounds`) take the model's change
-    through each trial chain with the force computed once and each pole's state decaying
-    in closed form after the contact: the same rows as the forward model predicting every
-    trial column in full (a zero shift in the record, so its held step passes the chains)."""
-    from pipeline.fit import dynamics
+@pytest.fixture(scope="module")
+def shifted():
+    """A fit with a zero shift of Fn among its parameters: (fit, its column P, solution)."""
+    fit, _, _ = _fit("zero_shift", 3)
+    assert "shift_n" in fit.vary and fit.values["shift_n"] != 0.0
+    P = fit.problem.design.local(np.asarray(fit.theta)[None, :])[0]
+    return fit, P, fit.problem.solution(fit.theta)[0]
+
+
+def _forward_rows(fit, P, sol, changes):
+    """The fit's rows of the model's change when the parameters take each row of
+    ``changes`` ({name: values (K,)}), the forward model predicting every column in full."""
     from pipeline.fit.forward import _I, Solution, weighted_residuals
 
-    fit, _, _ = _fit("zero_shift", 3)
-    assert "shift_n" in fit.vary
-    p, theta, data, model = fit.problem, fit.theta, fit.data, fit.model
-    P = p.design.local(np.asarray(theta)[None, :])[0]
-    sol = p.solution(theta)[0]
+    K = len(next(iter(changes.values())))
+    Pk = np.repeat(P, K + 1, axis=0)
+    for name, values in changes.items():
+        Pk[1:, _I[name]] = values
+    sk = Solution(sol.pulse, sol.tang, np.repeat(sol.index[:1], K + 1))
+    pred = fit.model.predict(fit.data, Pk, sk)
+    return -weighted_residuals(fit.data, [m[1:] - m[:1] for m in pred], derivative=True)
+
+
+def _same_rows(fast, full):
+    scale = np.max(np.abs(full), axis=1, keepdims=True)
+    assert np.all(scale > 0)
+    assert np.max(np.abs(fast - full) / scale) < 1e-9
+
+
+def test_the_bound_s_trial_changes_are_the_forward_model_s(shifted):
+    """The bound's trials (:func:`pipeline.fit.dynamics.bounds`) take the model's change
+    through each trial chain with the force computed once, each distinct pole run once for
+    all trials and each pole's state decaying in closed form after the contact: the same
+    rows as the forward model predicting every trial column in full (a zero shift in the
+    record, so its held step passes the chains)."""
+    from pipeline.fit import dynamics
+
+    fit, P, sol = shifted
     dur = fit.physics["t_c"]
     for name, values, fixed in (
         ("resonance", np.geomspace(1.0, 100.0, 5) / dur, {"damping_ratio": 0.1}),
         ("discharge", np.geomspace(1.0, 1e4, 5) * dur, {}),
     ):
-        Pk = np.repeat(P, values.size + 1, axis=0)
-        Pk[1:, _I[name]] = values
-        for k, v in fixed.items():
-            Pk[1:, _I[k]] = v
-        sk = Solution(sol.pulse, sol.tang, np.repeat(sol.index[:1], values.size + 1))
-        pred = model.predict(data, Pk, sk)
-        full = -weighted_residuals(data, [m[1:] - m[:1] for m in pred], derivative=True)
-        fast = dynamics._trial_rows(data, model, P, sol, name, values, fixed)
-        scale = np.max(np.abs(full), axis=1, keepdims=True)
-        assert np.all(scale > 0)
-        assert np.max(np.abs(fast - full) / scale) < 1e-9
+        full = _forward_rows(fit, P, sol, {name: values, **{k: [v] * 5 for k, v in fixed.items()}})
+        fast = dynamics._trial_rows(fit.data, fit.model, P, sol, name, values, fixed)
+        _same_rows(fast, full)
+
+
+def test_the_screen_s_zero_shift_trials_are_the_forward_model_s(shifted):
+    """The screen's trial zero shifts (:func:`pipeline.fit.dynamics._shift_rows`) pass only
+    the shift's change through the chain, every course at once and the channel that
+    changes, until the chain has settled: the same rows as the forward model predicting
+    every course of 1 N in full with the force — on each channel, the other keeping the
+    fitted shift of Fn (its course moving with the trial's), courses from before the onset
+    to past the contact's end."""
+    from pipeline.fit import dynamics
+
+    fit, P, sol = shifted
+    t0, dur = fit.values["t0"], fit.physics["t_c"]
+    grid = np.array([(t0 + a * dur, w * dur) for a in (-0.2, 0.3, 0.9) for w in (0.02, 0.7)])
+    for param in ("shift_n", "shift_t"):
+        full = _forward_rows(
+            fit,
+            P,
+            sol,
+            {param: np.ones(len(grid)), "shift_at": grid[:, 0], "shift_width": grid[:, 1]},
+        )
+        _same_rows(dynamics._shift_rows(fit.data, P, param, grid), full)
