@@ -389,44 +389,57 @@ def _summit(f, x, h, lower, upper, tol, gain_tol, max_iter=40):
     quadratic has no maximum within reach, the stencil moves to its highest point in the
     box, or narrows. Stops where a step is within ``tol`` in both variables or gains
     under ``gain_tol``. Returns (x, f(x))."""
-    x = np.clip(np.asarray(x, dtype=float), lower, upper)
-    h = np.asarray(h, dtype=float)
+    # two variables: plain floats, numpy's overhead on arrays of two exceeding the work
+    lower, upper, tol = ([float(v) for v in b] for b in (lower, upper, tol))
+    x = [min(max(float(v), lo), hi) for v, lo, hi in zip(x, lower, upper, strict=True)]
+    h = [float(v) for v in h]
     for _ in range(max_iter):
-        points = x + _STENCIL * h
-        F = f(points)
+        points = np.array(x) + _STENCIL * np.array(h)
+        F = f(points).tolist()
         c = F[4]
-        g = np.array([F[7] - F[1], F[5] - F[3]]) / (2.0 * h)
-        H = np.empty((2, 2))
-        H[0, 0] = (F[7] - 2.0 * c + F[1]) / h[0] ** 2
-        H[1, 1] = (F[5] - 2.0 * c + F[3]) / h[1] ** 2
-        H[0, 1] = H[1, 0] = (F[8] - F[6] - F[2] + F[0]) / (4.0 * h[0] * h[1])
-        free = ~(((x <= lower) & (g < 0.0)) | ((x >= upper) & (g > 0.0)))
+        g = [(F[7] - F[1]) / (2.0 * h[0]), (F[5] - F[3]) / (2.0 * h[1])]
+        H00 = (F[7] - 2.0 * c + F[1]) / (h[0] * h[0])
+        H11 = (F[5] - 2.0 * c + F[3]) / (h[1] * h[1])
+        H01 = (F[8] - F[6] - F[2] + F[0]) / (4.0 * h[0] * h[1])
+        diag = (H00, H11)
+        free = [
+            not ((xi <= lo and gi < 0.0) or (xi >= hi and gi > 0.0))
+            for xi, gi, lo, hi in zip(x, g, lower, upper, strict=True)
+        ]
         step = None
-        det = H[0, 0] * H[1, 1] - H[0, 1] ** 2
-        if free.all() and H[0, 0] < 0.0 and det > 0.0:  # a maximum: the Newton step
-            step = -np.array([H[1, 1] * g[0] - H[0, 1] * g[1], H[0, 0] * g[1] - H[0, 1] * g[0]])
-            step /= det
-        elif free.any() and H[free, free][0] < 0.0:  # the other held at its bound
-            step = np.where(free, -g / np.diag(H), 0.0)
+        det = H00 * H11 - H01 * H01
+        if all(free) and H00 < 0.0 and det > 0.0:  # a maximum: the Newton step
+            step = [-(H11 * g[0] - H01 * g[1]) / det, -(H00 * g[1] - H01 * g[0]) / det]
+        elif any(free) and diag[free.index(True)] < 0.0:  # the other held at its bound
+            step = [-gi / d if fr else 0.0 for gi, d, fr in zip(g, diag, free, strict=True)]
         if step is not None:
-            step = np.clip(x + step, lower, upper) - x
-            if np.any(np.abs(step) > 2.0 * h):
+            step = [
+                min(max(xi + si, lo), hi) - xi
+                for xi, si, lo, hi in zip(x, step, lower, upper, strict=True)
+            ]
+            if any(abs(si) > 2.0 * hi for si, hi in zip(step, h, strict=True)):
                 step = None
         if step is None:
             inside = np.all((points >= lower) & (points <= upper), axis=1)
             k = int(np.argmax(np.where(inside, F, -np.inf)))
             if F[k] - c > gain_tol:  # climb to the stencil's highest point in the box
-                x = points[k]
+                x = points[k].tolist()
             else:
-                h = h / 4.0
-                if np.all(h < tol):
+                h = [v / 4.0 for v in h]
+                if all(v < t for v, t in zip(h, tol, strict=True)):
                     break
             continue
-        x = x + step
-        if np.all(np.abs(step) < tol) or float(g @ step + 0.5 * step @ H @ step) < gain_tol:
+        x = [xi + si for xi, si in zip(x, step, strict=True)]
+        half = [0.5 * si for si in step]
+        curve = (half[0] * H00 + half[1] * H01) * step[0] + (half[0] * H01 + half[1] * H11) * step[
+            1
+        ]
+        if all(abs(si) < t for si, t in zip(step, tol, strict=True)) or (
+            g[0] * step[0] + g[1] * step[1] + curve < gain_tol
+        ):
             break
-        h = np.clip(np.abs(step), h / 10.0, h)
-    return x, float(f(x[None, :])[0])
+        h = [min(max(abs(si), hi / 10.0), hi) for si, hi in zip(step, h, strict=True)]
+    return np.array(x), float(f(np.array([x]))[0])
 
 
 def ringing_threshold(n: int, channels: int, false_alarm: float = FALSE_ALARM) -> float:
