@@ -63,7 +63,7 @@ from .forward import (
     CHAIN_PARAMS,
     SHIFT_OF,
     SYSTEMATIC_PARAMS,
-    _filtered,
+    _sampled,
     weighted_residuals,
     zero_shift,
 )
@@ -277,12 +277,14 @@ def _shift_rows(data, P, param, grid) -> np.ndarray:
     if size.any():
         x -= size[changed, None] * zero_shift(t, at, width)
     if math.isfinite(fn) or math.isfinite(tau):  # as the forward model runs the chain
-        x = data.sensor.chain(step, bw, fn, zeta, tau)(x, axis=-1)
+        x = data.sensor.chain(step, bw, fn, zeta, tau)(x, axis=-1)[..., ::over]
     else:
-        x = _filtered(data.sensor, step, bw, x)
+        x = _sampled(data, step, bw, x.reshape(-1, x.shape[-1]), x.shape[-1]).reshape(
+            x.shape[:-1] + (-1,)
+        )
     out = np.zeros((grid.shape[0], len(names), data.n_grid))
-    k0, n_in = lo // over, (end - lo - 1) // over + 1
-    out[:, changed, k0 : k0 + n_in] = x[..., ::over]
+    k0, n_in = lo // over, x.shape[-1]
+    out[:, changed, k0 : k0 + n_in] = x
     out[:, changed, k0 + n_in :] = x[..., -1:]  # settled
     change = [data.at_channel(out[:, i], i) for i in range(len(names))]
     return -weighted_residuals(data, change, derivative=True)
