@@ -97,6 +97,7 @@ class Problem:
         self.n_calls = 0
         self._last = None
         self._dlocal = None  # (rows, the chain rule's structure) of a constant design
+        self._prior_rows = None  # ∂(prior rows)/∂θ_vary, (priors, n_vary)
         self.solutions = None  # per record, of the last evaluation's rows (model's type)
 
     # ---------------------------------------------------------------- evaluation
@@ -158,12 +159,17 @@ class Problem:
         r = np.concatenate([r, pr], axis=1)
         if J is None:
             return r
-        Jp = np.zeros((J.shape[0], self.prior_index.size, J.shape[2]))
-        col = {k: j for j, k in enumerate(self.vary)}
-        for row, k in enumerate(self.prior_index):
-            if k in col:
-                Jp[:, row, col[k]] = 1.0 / self.prior_sigma[row]
-        return r, np.concatenate([J, Jp], axis=1)
+        if self._prior_rows is None:  # the same at every θ: worked out once
+            Jp = np.zeros((self.prior_index.size, self.vary.size))
+            col = {k: j for j, k in enumerate(self.vary)}
+            for row, k in enumerate(self.prior_index):
+                if k in col:
+                    Jp[row, col[k]] = 1.0 / self.prior_sigma[row]
+            self._prior_rows = Jp
+        out = np.empty((J.shape[0], J.shape[1] + self.prior_index.size, J.shape[2]))
+        out[:, : J.shape[1]] = J
+        out[:, J.shape[1] :] = self._prior_rows
+        return r, out
 
     def residual(self, theta):
         """Weighted residuals at θ; the Jacobian there is computed with them and kept for
