@@ -237,3 +237,27 @@ def test_one_pass_weighting_and_kept_filters_are_the_plain_ones():
             want = sosfilt(d.sensor.sos(step), padded, axis=-1)[:, :: d.oversample]
             got = _sampled(d, step, d.sensor.bandwidth, x[:, :m], padded.shape[1])
             np.testing.assert_allclose(got, want, rtol=0, atol=1e-13 * np.abs(want).max())
+
+
+def test_prior_rows_of_the_jacobian():
+    """The Jacobian's rows of the inputs known to a tolerance (kept per problem): the row
+    of prior k is 1/u_k in the column of parameter k where it varies, 0 elsewhere (module
+    notes of pipeline.fit.engine), for one row of θ, for two, and for one again."""
+    scene, rec = _record(0.0, seed=3)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", PipelineWarning)
+        fit = fit_contact(rec, scene, tangential="none", diagnose=False, n_boot=0)
+    problem = fit.problem
+    assert problem.prior_index.size >= 3
+    want = np.zeros((problem.prior_index.size, problem.vary.size))
+    for row, (k, u) in enumerate(zip(problem.prior_index, problem.prior_sigma, strict=True)):
+        if k in problem.vary:
+            want[row, list(problem.vary).index(k)] = 1.0 / u
+    assert np.count_nonzero(want) >= 3
+    theta = np.stack([fit.theta, fit.theta])
+    theta[1, problem.vary[0]] *= 1.001
+    for rows in (theta[:1], theta, theta[1:]):
+        r, J = problem.evaluate(rows, jacobian=True)
+        assert J.shape == (rows.shape[0], problem.n_rows, problem.vary.size)
+        for b in range(rows.shape[0]):
+            np.testing.assert_array_equal(J[b, problem.n_data :], want)
