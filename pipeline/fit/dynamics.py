@@ -361,17 +361,21 @@ def _explained(X, dt, w, s, trend):
     exponential z_k = q^k, q = e^{(iω − s)·dt}, its powers by a running product (relative
     error ~k·10⁻¹⁶; trigonometric functions cost more than all the rest), every trial in
     one pass; its parts a few cycles long, far from parallel."""
-    w, s = np.broadcast_arrays(np.atleast_1d(np.asarray(w, float)), np.asarray(s, float))
-    K, n = w.size, X.shape[0]
+    step = np.exp((-np.asarray(s, float) + 1j * np.asarray(w, float)) * dt).reshape(-1)
+    K, n = step.size, X.shape[0]
     z = np.empty((K, n), dtype=complex)
     z[:, 0] = 1.0
-    step = np.exp((-s + 1j * w) * dt)
-    np.cumprod(np.broadcast_to(step[:, None], (K, n - 1)), axis=1, out=z[:, 1:])
+    z[:, 1:] = step[:, None]
+    np.multiply.accumulate(z[:, 1:], axis=1, out=z[:, 1:])
     # the trials' real and imaginary parts, rows 2k and 2k + 1 of one (2K, n) array
-    Z = np.ascontiguousarray(z.view(float).reshape(K, n, 2).transpose(0, 2, 1)).reshape(2 * K, n)
+    Z = z.view(float).reshape(K, n, 2).transpose(0, 2, 1).copy().reshape(2 * K, n)
     Z -= (Z @ trend) @ trend.T
     re, im = Z[0::2], Z[1::2]
-    a, b, c = (np.einsum("kn,kn->k", u, v) for u, v in ((re, re), (re, im), (im, im)))
+    a, b, c = (
+        np.einsum("kn,kn->k", re, re),
+        np.einsum("kn,kn->k", re, im),
+        np.einsum("kn,kn->k", im, im),
+    )
     P = Z @ X  # each column's products with both parts
     pr, pi = P[0::2], P[1::2]
     num = c * np.einsum("kc,kc->k", pr, pr) - 2.0 * b * np.einsum("kc,kc->k", pr, pi)
