@@ -371,11 +371,7 @@ def _explained(X, dt, w, s, trend):
     Z = z.view(float).reshape(K, n, 2).transpose(0, 2, 1).copy().reshape(2 * K, n)
     Z -= (Z @ trend) @ trend.T
     re, im = Z[0::2], Z[1::2]
-    a, b, c = (
-        np.einsum("kn,kn->k", re, re),
-        np.einsum("kn,kn->k", re, im),
-        np.einsum("kn,kn->k", im, im),
-    )
+    a, b, c = (np.einsum("kn,kn->k", u, v) for u, v in ((re, re), (re, im), (im, im)))
     P = Z @ X  # each column's products with both parts
     pr, pi = P[0::2], P[1::2]
     num = c * np.einsum("kc,kc->k", pr, pr) - 2.0 * b * np.einsum("kc,kc->k", pr, pi)
