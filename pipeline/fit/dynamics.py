@@ -432,13 +432,10 @@ def _summit(f, x, h, lower, upper, tol, gain_tol, max_iter=40):
                     break
             continue
         x = [xi + si for xi, si in zip(x, step, strict=True)]
-        half = [0.5 * si for si in step]
-        curve = (half[0] * H00 + half[1] * H01) * step[0] + (half[0] * H01 + half[1] * H11) * step[
-            1
-        ]
-        if all(abs(si) < t for si, t in zip(step, tol, strict=True)) or (
-            g[0] * step[0] + g[1] * step[1] + curve < gain_tol
-        ):
+        hs = [0.5 * si for si in step]  # the quadratic's gain: g·step + ½ stepᵀ·H·step
+        rise = g[0] * step[0] + g[1] * step[1]
+        rise += (hs[0] * H00 + hs[1] * H01) * step[0] + (hs[0] * H01 + hs[1] * H11) * step[1]
+        if all(abs(si) < t for si, t in zip(step, tol, strict=True)) or rise < gain_tol:
             break
         h = [min(max(abs(si), hi / 10.0), hi) for si, hi in zip(step, h, strict=True)]
     return np.array(x), float(f(np.array([x]))[0])
