@@ -181,12 +181,11 @@ def test_one_pass_weighting_and_kept_filters_are_the_plain_ones():
     whitened by an AR(2) noise model and projected off the fitted baseline together)
     against :func:`~pipeline.fit.forward.weighted_residuals` of each alone, on the 15°
     record's Fn and Ft, to 1e-13 of each row's scale (the projection's matrix products
-    round alike to ~1e-16); and the filtered samples of a force that ends (the recursion
-    over the force, then the filter's free response a record keeps) against the sensor's
-    own sections run over the force and the zeros after it, to 1e-13 of the peak, for the
-    record's second-order low-pass and for the same record seen through a first- and a
-    third-order one (:meth:`RecordData.with_sensor`; each asked for again after the others),
-    at each phase of the samples after the force's end."""
+    round alike to ~1e-16); and the filtered samples of a force that ends, through the
+    low-pass a record keeps for its later evaluations, against the sensor's own sections
+    run over the force and the zeros after it, to 1e-13 of the peak, for the record's
+    second-order low-pass and for the same record seen through a first- and a third-order
+    one (:meth:`RecordData.with_sensor`; each asked for again after the others)."""
     import dataclasses
 
     from scipy.signal import sosfilt
@@ -232,7 +231,7 @@ def test_one_pass_weighting_and_kept_filters_are_the_plain_ones():
     third = data.with_sensor(dataclasses.replace(data.sensor, filter_order=3, notes=()))
     x = np.random.default_rng(5).normal(size=(2, 403))
     for d in (data, first, third, data, first, third):
-        for m in (403, 401, 398):  # each phase of the free response against the samples
+        for m in (403, 398):
             padded = np.concatenate([x[:, :m], np.zeros((2, 1500))], axis=1)
             want = sosfilt(d.sensor.sos(step), padded, axis=-1)[:, :: d.oversample]
             got = _sampled(d, step, d.sensor.bandwidth, x[:, :m], padded.shape[1])

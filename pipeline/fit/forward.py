@@ -149,8 +149,9 @@ _CHAIN = np.array([_I[k] for k in CHAIN_PARAMS])
 _SHIFT = np.array([_I["shift_n"], _I["shift_t"]])
 #: The analytic parameters that mix the axes (their derivatives: :meth:`ForwardModel._dmix`).
 _MIXING = ("gain_n", "gain_t", "leak", "leak_tn")
-#: Their columns among :data:`PARAMS`, and their values where the axes do not mix.
-_AXES = np.array([_I[k] for k in _MIXING])
+#: Their columns among :data:`PARAMS` (adjacent), and their values where the axes do not mix.
+_AXES = slice(_I["gain_n"], _I["gain_n"] + len(_MIXING))
+assert PARAMS[_AXES] == _MIXING
 _AXES_NONE = np.array([1.0, 1.0, 0.0, 0.0])
 #: Local parameters whose derivatives the forward model gives in closed form (they scale,
 #: stretch, shift or mix the pulse: no new tangential solution); the others by differences.
@@ -310,23 +311,6 @@ class RecordData:
         if out is None:
             sos = self.sensor.sos(step, bandwidth=bandwidth)
             out = self._remember(key, (sos[0, :3], sos[0, 3:]) if sos.shape[0] == 1 else sos)
-        return out
-
-    def _free_response(self, step, bandwidth, phase, n):
-        """The low-pass's (:meth:`_lowpass`) response to zero input over n fine steps from
-        each unit state, at the steps phase, phase + oversample, …: (states, ⌈(n −
-        phase)/oversample⌉), kept per bandwidth and phase."""
-        key = ("free", step, bandwidth, phase, n)
-        out = self._memo.get(key)
-        if out is None:
-            f = self._lowpass(step, bandwidth)
-            if isinstance(f, tuple):
-                y = lfilter(*f, np.zeros((2, n)), axis=-1, zi=np.eye(2))[0]
-            else:
-                k = 2 * f.shape[0]
-                zi = np.moveaxis(np.eye(k).reshape(k, f.shape[0], 2), 1, 0)
-                y = sosfilt(f, np.zeros((k, n)), axis=-1, zi=zi)[0]
-            out = self._remember(key, y[:, phase :: self.oversample])
         return out
 
     def _remember(self, key, value):
@@ -838,7 +822,9 @@ class ForwardModel:
         if need_t and sol.tang is not None:
             tables.append(_cubic_steps(sol.tang.ft, sol.tang.dft, step, sol.tang.kink))
         # the series' coefficients side by side, (4·S, U·(n + 1)): one gather serves them all
-        table = np.concatenate(tables).reshape(4 * len(tables), -1)
+        table = (tables[0] if len(tables) == 1 else np.concatenate(tables)).reshape(
+            4 * len(tables), -1
+        )
         h = step[k]
         s = tau / h
         j = s.astype(int)
@@ -878,7 +864,7 @@ class ForwardModel:
         same = (
             C is None
             and (ft is not None or "Ft" not in names)
-            and not (P[:, _AXES] - _AXES_NONE).any()
+            and not (P[:, _AXES] != _AXES_NONE).any()
         )
         mixed = [fn if n == "Fn" else ft for n in names] if same else self._mix(C, P, fn, ft, names)
         if not nderiv:
@@ -983,13 +969,12 @@ class ForwardModel:
             groups = {}  # the rows of each bandwidth
             for i, b in enumerate(row_bw):
                 groups.setdefault(b, []).append(i)
-            m_in = full.shape[1] if shifted else hi - lo  # zero after: the filter's free response
             if len(groups) == 1:
-                filt = _sampled(data, step, row_bw[0], full[:, :m_in], full.shape[1])
+                filt = _sampled(data, step, row_bw[0], full, full.shape[1])
             else:
                 filt = np.empty((full.shape[0], full[:, :: data.oversample].shape[1]))
                 for b, rows_b in groups.items():
-                    filt[rows_b] = _sampled(data, step, b, full[rows_b, :m_in], full.shape[1])
+                    filt[rows_b] = _sampled(data, step, b, full[rows_b], full.shape[1])
         else:  # each row through its column's chain (bandwidth, mode, discharge)
             row_chain = np.concatenate(
                 [chain] * nch + ([np.repeat(chain[:nderiv], na, axis=0)] * nch if nderiv else [])
@@ -1130,30 +1115,15 @@ def _sampled(data, step, bandwidth, x, length):
     """``x`` (rows, m) on the fine grid of step ``step`` [s], zero after its m instants,
     through the low-pass of ``data``'s sensor at ``bandwidth`` [Hz] (none where infinite),
     at every ``data.oversample``-th of the first ``length`` instants (rows, ⌈length/os⌉).
-
-    The recursion runs over the m instants of ``x`` only: after them the input is zero, and
-    the output is the filter's free response from its final state, a linear map of that
-    state kept per record (:meth:`RecordData._free_response`; equal to running the
-    recursion on over the zeros to ~1e-15 of the peak). One second-order section goes
-    through :func:`scipy.signal.lfilter` as its transfer function (the same recursion, a
-    third of :func:`~scipy.signal.sosfilt`'s overhead), more sections through ``sosfilt``."""
-    os_, m = data.oversample, x.shape[-1]
-    f = data._lowpass(step, bandwidth) if math.isfinite(bandwidth) and m else None
-    if f is None:
-        y = x
-    elif isinstance(f, tuple):
-        y, zf = lfilter(*f, x, axis=-1, zi=np.zeros((x.shape[0], 2)))
-    else:
-        y, zf = sosfilt(f, x, axis=-1, zi=np.zeros((f.shape[0], x.shape[0], 2)))
-        zf = np.moveaxis(zf, 0, 1).reshape(x.shape[0], -1)
-    head = y[:, ::os_]
-    if length <= m:
-        return head
-    out = np.zeros((x.shape[0], -(-length // os_)))
-    out[:, : head.shape[1]] = head
-    if f is not None:
-        out[:, head.shape[1] :] = zf @ data._free_response(step, bandwidth, -m % os_, length - m)
-    return out
+    One second-order section goes through :func:`scipy.signal.lfilter` as its transfer
+    function (the same recursion, a third of :func:`~scipy.signal.sosfilt`'s overhead),
+    more sections through ``sosfilt``."""
+    if x.shape[-1] < length:
+        x = np.concatenate([x, np.zeros((x.shape[0], length - x.shape[-1]))], axis=-1)
+    if math.isfinite(bandwidth):
+        f = data._lowpass(step, bandwidth)
+        x = lfilter(*f, x, axis=-1) if isinstance(f, tuple) else sosfilt(f, x, axis=-1)
+    return x[:, :: data.oversample]
 
 
 def _cubic_steps(y, dy, step, kink=None):
