@@ -380,23 +380,18 @@ class _Impact:
         )
         # the plastic stretch
         ph = w * np.maximum(tau - t1, 0.0) - th
-        x2 = xy / 3.0 + A * np.cos(ph)
+        xi = A * np.cos(ph)  # ξ, the stretch's spring
+        x2 = xy / 3.0 + xi
         u2 = -A * w * np.sin(ph)
-        xp = col(self.xp)
-        x3, u3 = xp + L * z3, -U * u3
+        z = L * z3  # the unloading's elastic approach
+        x3, u3 = col(self.xp) + z, -U * u3
         rho = col(self.rho)
-        x = np.where(tau <= t1, x1, np.where(tau <= t2, x2, x3))
-        u = np.where(tau <= t1, u1, np.where(tau <= t2, u2, u3))
-        f = np.where(
-            tau <= t1,
-            x1 * np.sqrt(x1),
-            np.where(tau <= t2, k * (A * np.cos(ph)), rho * (L * z3) ** 1.5),
-        )
-        df = np.where(
-            tau <= t1,
-            1.5 * np.sqrt(x1) * u1,
-            np.where(tau <= t2, k * u2, 1.5 * rho * np.sqrt(L * z3) * u3),
-        )
+        q1 = np.sqrt(x1)
+        first, second = tau <= t1, tau <= t2  # the phases (each test once)
+        x = np.where(first, x1, np.where(second, x2, x3))
+        u = np.where(first, u1, np.where(second, u2, u3))
+        f = np.where(first, x1 * q1, np.where(second, k * xi, rho * z**1.5))
+        df = np.where(first, 1.5 * q1 * u1, np.where(second, k * u2, 1.5 * rho * np.sqrt(z) * u3))
         return x, u, f, df
 
 
