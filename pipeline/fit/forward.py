@@ -288,9 +288,9 @@ class RecordData:
             "lam": self.lam_of(m),
         }.items():
             object.__setattr__(self, k, float(v))
-        # what the forward model works out from the data alone (the fine grid's step, the
-        # sensor's ring times and filters at the bandwidths asked for): kept for the
-        # record's later evaluations, each computed as the first one computed it
+        # what the forward model works out from the record's sensor alone (its ring times
+        # and its low-pass at the bandwidths asked for): kept for the record's later
+        # evaluations, each as the first one computed it
         object.__setattr__(self, "_memo", {})
 
     def _ring_time(self, *chain) -> float:
