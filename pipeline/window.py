@@ -279,11 +279,11 @@ def _spike_stats(y, k):
 def _spike_residuals(Y):
     """d of :func:`_spike_stats` at every interior sample 3 … n − 4 of each row of ``Y``
     (the misfit, which only the few candidates need, left out)."""
-    c, n = Y.shape
-    nb = np.empty((c, n - 6, _SPIKE_OFFSETS.size))
-    for j, offset in enumerate(_SPIKE_OFFSETS):
-        nb[:, :, j] = Y[:, 3 + offset : n - 3 + offset]
-    return Y[:, 3:-3] - nb @ _SPIKE_WEIGHTS
+    n = Y.shape[1]
+    d = Y[:, 3:-3].copy()
+    for offset, weight in zip(_SPIKE_OFFSETS.tolist(), _SPIKE_WEIGHTS.tolist(), strict=True):
+        d -= weight * Y[:, 3 + offset : n - 3 + offset]
+    return d
 
 
 def _spike_at(y, i, n, kk, sd, sigma):
@@ -362,16 +362,20 @@ def _find_spikes(Y, kk, sigma=None):
     spans = np.ptp(Y, axis=1)
     # the smallest step between distinct neighbours (∞ where all are equal)
     steps = np.abs(np.diff(Y, axis=1))
-    smallest = np.min(np.where(steps > 0, steps, np.inf), axis=1)
+    smallest = np.min(steps, axis=1)
+    if not np.all(smallest > 0):  # equal neighbours (or a NaN) somewhere: leave them out
+        smallest = np.min(np.where(steps > 0, steps, np.inf), axis=1)
+    tops = np.max(np.abs(D), axis=1)
     return [
-        _spikes_of(y, d, float(s), float(span), float(step), kk)
-        for y, d, s, span, step in zip(Y, D, sigmas, spans, smallest, strict=True)
+        _spikes_of(y, d, float(s), float(span), float(step), kk, float(top))
+        for y, d, s, span, step, top in zip(Y, D, sigmas, spans, smallest, tops, strict=True)
     ]
 
 
-def _spikes_of(y, d, sigma, span, step, kk):
+def _spikes_of(y, d, sigma, span, step, kk, top=math.nan):
     """The spikes of one channel ``y`` (repaired in place) from its residuals ``d``, the noise
-    σ [N] they show, its range and its smallest step [N] (:func:`_find_spikes`)."""
+    σ [N] they show, its range, its smallest step and its largest |d| [N] (where known: no
+    sample is a candidate where that is within the threshold) (:func:`_find_spikes`)."""
     if not sigma > 0:
         sigma = float(np.std(d)) / math.sqrt(1.5)
     sigma = max(sigma, _RESOLUTION_FLOOR * span)
@@ -384,6 +388,8 @@ def _spikes_of(y, d, sigma, span, step, kk):
         return np.zeros(0, int), np.zeros(0)
     n = y.size
     sd = sigma * math.sqrt(1.5)
+    if top <= kk * sd:  # no sample stands out: no candidate (a NaN top says nothing)
+        return np.zeros(0, int), np.zeros(0)
     found, values = [], []
     candidates = np.flatnonzero(np.abs(d) > kk * sd)
     candidates = (3 + candidates[np.argsort(-np.abs(d[candidates]), kind="stable")]).tolist()

@@ -631,9 +631,14 @@ def fine_grid(t, oversample: int) -> tuple:
     return t[0] + np.arange((t.size - 1) * oversample + 1) * h, h
 
 
+#: Residuals of a line below this fraction of the samples' magnitude are its rounding [-].
+_ROUNDING = 1e-12
+
+
 def _before_contact(win, t, f, spikes=None):
     """The channel's samples before the contact (less a tenth of its duration), less their
-    own least-squares line; None where there are fewer than 20."""
+    own least-squares line (zeros where they lie on it to :data:`_ROUNDING`); None where
+    there are fewer than 20."""
     if win.kind != "sensor":
         return None
     pre = t < win.t_start - 0.1 * win.duration
@@ -642,8 +647,14 @@ def _before_contact(win, t, f, spikes=None):
     if np.count_nonzero(pre) < 20:
         return None
     tt, yy = t[pre], f[pre]
-    A = np.column_stack([np.ones(tt.size), tt - tt.mean()])
-    return yy - A @ np.linalg.lstsq(A, yy, rcond=None)[0]
+    # the least-squares line in closed form: 1 and t − t̄ are orthogonal over the samples
+    x = tt - tt.mean()
+    r = yy - (yy.mean() + x * (float(x @ yy) / float(x @ x)))
+    if np.max(np.abs(r)) <= _ROUNDING * np.max(np.abs(yy)):
+        # samples on their line to the rounding (one ADC level, a noise-free record) carry
+        # no noise: the rounding's own correlation would pass for the noise's
+        r[:] = 0.0
+    return r
 
 
 def zero_shift(t, at, width):

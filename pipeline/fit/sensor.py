@@ -438,6 +438,8 @@ def sensor_spec(record, sensor=None) -> SensorSpec:
     else:
         meta, stated, written = {}, {}, {}  # one pass: a record carries scores of others
         for k, v in record.attrs.items():
+            if not str(k).startswith(("meta_", "sensor_")):
+                continue  # most of a record's attributes (a single test: a score of them)
             if str(k).startswith("meta_sensor_"):  # to_sensor's, through a sensor CSV
                 if (value := _written(v)) is not None:
                     written[k.removeprefix("meta_sensor_")] = value
