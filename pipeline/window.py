@@ -1228,7 +1228,7 @@ def _runs(r, sigma, kk) -> list[_Run]:
     runs = []
     above = np.zeros(r.size + 2, dtype=bool)  # a sample below σ on either side
     for sign in (1, -1):
-        s = sign * r
+        s = r if sign > 0 else -r
         hot = s > kk * sigma
         if not hot.any():
             continue

@@ -11,8 +11,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from pipeline.fit.forward import baseline_basis
+from pipeline import Scene
+from pipeline.fit.forward import baseline_basis, prepare
 from pipeline.fit.noise import measure_noise
+from pipeline.sensor_model import to_sensor
+from pipeline.simulate import impact
 
 
 def _ar1(phi, n, seed):
@@ -48,3 +51,41 @@ def test_the_baseline_basis_is_orthonormal_and_spans_offset_and_drift():
     np.testing.assert_allclose(B.T @ B, np.eye(2), rtol=0, atol=1e-12)
     line = 4.0 - 2.0e3 * t  # any offset and drift [N] is projected out
     np.testing.assert_allclose(line - B @ (B.T @ line), 0.0, rtol=0, atol=1e-12 * 4.0)
+
+
+def _sensor_record(**options):
+    scene = Scene(radius=0.0127, density=7800.0, E=200e9, nu=0.3, speed=0.6, angle_deg=0.0)
+    ideal = impact(scene, normal="hertz", tangential="none", samples=1001)
+    return scene, to_sensor(ideal, rate=1e6, pre_trigger=4e-4, post_trigger=3e-4, **options)
+
+
+def _pre_trigger(data, rec):
+    """The samples a channel's noise is measured on: those before the contact less a tenth
+    of its duration."""
+    t, f = rec["time"].values, rec["Fn"].values
+    win = data.window
+    pre = t < win.t_start - 0.1 * win.duration
+    return t[pre], f[pre]
+
+
+def test_the_noise_is_measured_on_the_pre_trigger_samples_less_their_least_squares_line():
+    scene, rec = _sensor_record(noise=2.0, seed=3)
+    data = prepare(rec, scene, channels=("Fn",))
+    t, f = _pre_trigger(data, rec)
+    A = np.column_stack([np.ones(t.size), t])
+    expected = measure_noise(f - A @ np.linalg.lstsq(A, f, rcond=None)[0])
+    model = data.channels[0].noise
+    assert model.n == expected.n > 64
+    assert model.lag1 == pytest.approx(expected.lag1, rel=1e-9)
+    assert model.ljung_box_p == pytest.approx(expected.ljung_box_p, rel=1e-9)
+    np.testing.assert_allclose(model.phi, expected.phi, rtol=1e-9)
+
+
+def test_pre_trigger_samples_on_one_adc_level_show_white_noise():
+    """A noise-free record whose pre-trigger lies on one converter level: nothing to measure
+    (the rounding of its line's fit is no correlated noise)."""
+    scene, rec = _sensor_record(noise=0.0, bits=16, full_scale=5000.0)
+    data = prepare(rec, scene, channels=("Fn",))
+    _, f = _pre_trigger(data, rec)
+    assert f.size > 64 and np.ptp(f) == 0.0  # the precondition: one level
+    assert data.channels[0].noise.white

@@ -414,6 +414,25 @@ def test_find_spikes_gives_the_exact_samples_and_leaves_a_ring_alone():
                for s in range(10))  # fmt: skip
 
 
+@pytest.mark.parametrize("noise", [0.0, 1e-3])
+def test_a_spike_is_one_exactly_where_it_passes_the_threshold(noise):
+    """On a flat line (σ stated) a lone sample stands off its neighbours' quadratic by its
+    own height d, whose noise is √1.5·σ: a spike exactly where |d| > k·√1.5·σ, however the
+    search's shortcuts skip a channel no sample of which passes (the flat line's equal
+    neighbours take the search's slow path for its smallest step, the noise its fast one)."""
+    k, sigma = 5.0, 1.0
+    bound = k * np.sqrt(1.5) * sigma
+    base = np.random.default_rng(5).normal(0, noise, 400)
+    for height, found in ((1.01 * bound, True), (0.99 * bound, False)):
+        for sign in (1, -1):
+            y = base.copy()
+            y[200] += sign * height
+            idx, repaired = find_spikes(y, k=k, sigma=sigma)
+            assert idx.tolist() == ([200] if found else [])
+            if found:
+                assert repaired == pytest.approx([base[200]], abs=100 * noise + 1e-12)
+
+
 def test_spikes_are_left_out_of_the_fit_by_their_indices_never_a_second_impact():
     fit, truth, warned = _fit("spikes", 2)
     expected = {}

@@ -413,9 +413,11 @@ def param_scales(data: RecordData) -> np.ndarray:
     )
 
 
-def _repaired(record, win, name):
-    """(t [s], values [N]) of channel ``name`` with the window's spikes repaired."""
-    t, f = channel(record, name)
+def _repaired(record, win, name, t=None, f=None):
+    """(t [s], values [N]) of channel ``name`` with the window's spikes repaired (``t``,
+    ``f``: the channel as :func:`pipeline.record.channel` reads it, where read already)."""
+    if t is None:
+        t, f = channel(record, name)
     mine = [sp for sp in win.spikes if sp.channel == name]
     if mine and t.size == record.sizes["time"]:
         f = np.array(f, dtype=float, copy=True)
@@ -423,15 +425,18 @@ def _repaired(record, win, name):
     return t, f
 
 
-def _noise_model(record, win, name, t, f) -> NoiseModel:
+def _noise_model(record, win, name, t, f, uniform=None) -> NoiseModel:
     """The channel's noise model from its pre-trigger samples (sensor records; white for
     the others, and where the record is not uniformly sampled), less their own line (the
     window's baseline, fitted on both sides, tilts where the zero shifts or the charge
-    leaks, and a tilt is no correlation of the noise)."""
+    leaks, and a tilt is no correlation of the noise). ``uniform``: whether the instants
+    ``t`` [s] are uniformly sampled, where known."""
     if win.kind != "sensor" or name not in win.baseline:
         return WHITE
-    dt = np.diff(t)
-    if t.size < 3 or np.ptp(dt) > 1e-6 * np.mean(dt):
+    if uniform is None:
+        dt = np.diff(t)
+        uniform = t.size >= 3 and not np.ptp(dt) > 1e-6 * np.mean(dt)
+    if not uniform:
         return WHITE
     pre = _before_contact(win, t, f)
     if pre is not None:
@@ -586,7 +591,9 @@ def prepare(
         basis = baseline_basis(tc) if baseline else None
         model = WHITE
         if noise_model:
-            model = _noise_model(record, win, name, *_repaired(record, win, name))
+            # every channel's instants are the grid's where it is one (no margin cuts them)
+            known = uniform if margin is None and grid is not False else None
+            model = _noise_model(record, win, name, *_repaired(record, win, name, t, f), known)
         chans.append(Channel(name, tc, yc, sigma, basis, int(max(n_noise, 0)), model, index))
     fine, sos, os_ = None, None, 1
     if uniform:
