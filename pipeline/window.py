@@ -180,8 +180,10 @@ def _row_medians(a):
 
 def mad_sigma(r) -> float:
     """Robust noise level: 1.4826·median|r − median r| [same unit as ``r``]."""
-    r = np.asarray(r, dtype=float)
-    return float(_MAD_TO_SIGMA * _median(np.abs(r - _median(r)), scratch=True))
+    p = np.array(r, dtype=float).ravel()  # a copy, reordered: |p − median| holds the same
+    median = _median(p, scratch=True)  # values as |r − median|, without two temporaries
+    np.abs(np.subtract(p, median, out=p), out=p)
+    return float(_MAD_TO_SIGMA * _median(p, scratch=True))
 
 
 def default_threshold(n: int, false_alarm: float = 1e-3) -> float:
@@ -820,19 +822,14 @@ def _warn_later_pulses(win, src):
         _warn_later(src, [(a, p) for a, _, p in win.other_pulses], win.peak)
 
 
-def _fit_line(t, y, mask, t_ref, both_sides):
-    """The baseline of ``y`` through its samples where ``mask`` (instants ``t`` [s])."""
-    return _line(t[mask], y[mask], t_ref, both_sides)
-
-
-def _line(t, y, t_ref, both_sides):
-    """The least-squares line through the samples ``y`` at ``t`` [s] (both sides of the
-    contact), else their mean (one side: a slope would extrapolate across the pulse)."""
+def _line(tt, y, t_ref, both_sides):
+    """The least-squares line through the samples ``y`` at ``t_ref`` + ``tt`` [s] (both sides
+    of the contact), else their mean (one side: a slope would extrapolate across the
+    pulse). The means as numpy's (the sum over the count), without its wrapper."""
     if not both_sides:
-        return Baseline(float(np.mean(y)), 0.0, float(t_ref))
+        return Baseline(float(np.add.reduce(y) / y.size), 0.0, float(t_ref))
     # the least-squares line in closed form, about the samples' mean instant
-    tt = t - t_ref
-    t_mean, y_mean = tt.mean(), y.mean()
+    t_mean, y_mean = np.add.reduce(tt) / tt.size, np.add.reduce(y) / y.size
     x = tt - t_mean
     s = float(x @ (y - y_mean)) / float(x @ x)
     return Baseline(float(y_mean - s * t_mean), s, float(t_ref))
@@ -877,6 +874,7 @@ class _Course:
 
     def __init__(self, t, t_ref, tau=math.inf):
         self.t, self.t_ref, self.tau = t, float(t_ref), float(tau)
+        self.tt = t - self.t_ref  # the instants from t_ref [s], for every line
         self.basis = None  # the images of 1 and t − t_ref, (2, n)
         if math.isfinite(self.tau):
             self.basis = _undo_discharge(np.stack([np.ones_like(t), t - t_ref]), t, self.tau)
@@ -888,13 +886,15 @@ class _Course:
     def __call__(self, base):
         """The baseline ``base`` in the searched signal, at every instant [N]."""
         if self.basis is None:
+            if base.t_ref == self.t_ref:  # base(t), its instants' part done once
+                return base.offset + base.slope * self.tt
             return base(self.t)
         return base.offset * self.basis[0] + base.slope * self.basis[1]
 
     def fit(self, y, mask, both_sides):
         """The baseline through the searched samples ``y`` where ``mask`` (:func:`_line`)."""
         if self.basis is None:
-            return _fit_line(self.t, y, mask, self.t_ref, both_sides)
+            return _line(self.tt[mask], y[mask], self.t_ref, both_sides)
         A = self.basis[: 2 if both_sides else 1, mask].T
         coef = np.linalg.lstsq(A, y[mask], rcond=None)[0]
         return Baseline(float(coef[0]), float(coef[1]) if both_sides else 0.0, self.t_ref)

@@ -140,6 +140,20 @@ def test_to_sensor_rings_after_the_pulse_and_keeps_the_percussion():
 
 
 # ---------------------------------------------------------------- what the fits are told
+def test_a_record_decoupled_when_loaded_has_no_crosstalk_left_to_model():
+    matrix = [[1, 0.02, 0], [0.01, 1, 0], [0, 0, 1]]
+    attrs = {"source": "x", "format": "t", "sensor_crosstalk_matrix": matrix}
+    record = make_record(np.arange(50) * 1e-6, {"Fn": np.zeros(50)}, attrs=attrs)
+    decoupled = make_record(
+        np.arange(50) * 1e-6, {"Fn": np.zeros(50)}, attrs={**attrs, "decouple_source": "array"}
+    )
+    assert sensor_spec(record).crosstalk.tolist() == matrix
+    stated = {"crosstalk_matrix": matrix}
+    for spec in (sensor_spec(decoupled), sensor_spec(decoupled, stated)):
+        assert spec.crosstalk is None and "decoupled when loaded" in spec.notes[-1]
+    assert sensor_spec(record, stated).crosstalk.tolist() == matrix
+
+
 def test_sensor_spec_reads_the_mode_and_the_discharge():
     blank = make_record(
         np.arange(50) * 1e-6, {"Fn": np.zeros(50)}, attrs={"source": "x", "format": "t"}

@@ -426,6 +426,7 @@ def sensor_spec(record, sensor=None) -> SensorSpec:
     -------
     SensorSpec
     """
+    decoupled = None  # a loader's decoupling matrix applied (``decouple…`` attributes)
     if isinstance(sensor, SensorSpec):
         spec = sensor
     elif isinstance(sensor, Mapping):
@@ -437,10 +438,13 @@ def sensor_spec(record, sensor=None) -> SensorSpec:
         )
     else:
         meta, stated, written = {}, {}, {}  # one pass: a record carries scores of others
+        decoupled = False
         for k, v in record.attrs.items():
-            if not str(k).startswith(("meta_", "sensor_")):
+            if not str(k).startswith(("meta_", "sensor_", "decouple")):
                 continue  # most of a record's attributes (a single test: a score of them)
-            if str(k).startswith("meta_sensor_"):  # to_sensor's, through a sensor CSV
+            if str(k).startswith("decouple"):
+                decoupled = True
+            elif str(k).startswith("meta_sensor_"):  # to_sensor's, through a sensor CSV
                 if (value := _written(v)) is not None:
                     written[k.removeprefix("meta_sensor_")] = value
             elif str(k).startswith("meta_"):
@@ -466,7 +470,9 @@ def sensor_spec(record, sensor=None) -> SensorSpec:
         else:
             src = "the record's metadata"
         spec = _from_mapping(fields, src) if fields else SensorSpec()
-    if spec.crosstalk is not None and any(k.startswith("decouple") for k in record.attrs):
+    if decoupled is None and spec.crosstalk is not None:
+        decoupled = any(str(k).startswith("decouple") for k in record.attrs)
+    if spec.crosstalk is not None and decoupled:
         # the loader already applied a decoupling matrix: nothing left to mix
         spec = dataclasses.replace(
             spec,
