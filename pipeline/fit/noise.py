@@ -98,8 +98,9 @@ WHITE = NoiseModel(np.zeros(0))
 def _acf(x, max_lag):
     """Autocorrelations of ``x`` at lags 0 … ``max_lag`` (< its size), the biased estimate;
     None where ``x`` is constant."""
-    x = np.asarray(x, dtype=float) - np.mean(x)
+    x = np.asarray(x, dtype=float)
     n = x.size
+    x = x - np.add.reduce(x) / n  # numpy's mean, without its wrapper
     ac = np.array([x[: n - k] @ x[k:] for k in range(max_lag + 1)]) / n
     return ac / ac[0] if ac[0] > 0 else None
 
