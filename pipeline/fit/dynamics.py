@@ -266,10 +266,8 @@ def _shift_rows(data, P, param, grid) -> np.ndarray:
         first, last = min(first, at - 0.5 * width), max(last, at + 0.5 * width)
     bw, fn, zeta, tau = (float(P[0, _I[k]]) for k in CHAIN_PARAMS)
     step = float(fine[1] - fine[0])
-    lo = max(int(np.searchsorted(fine, first)) - 1, 0)
-    lo -= lo % over  # start on a sample instant
-    hi = min(int(np.searchsorted(fine, last)) + 1, fine.size)
-    end = min(fine.size, hi + int(math.ceil(data.sensor.ring_time(bw, fn, zeta, tau) / step)) + 1)
+    lo, hi = data.fine_span(first, last)
+    end = min(fine.size, hi + int(math.ceil(data._ring_time(bw, fn, zeta, tau) / step)) + 1)
     changed = [i for i, n in enumerate(names) if SHIFT_OF[n] == param or size[i]]
     t = fine[None, lo:end]
     x = np.where([SHIFT_OF[names[i]] == param for i in changed], 1.0, size[changed])[:, None]
@@ -578,9 +576,7 @@ class _Span:
         first, last = t0, t_end
         if any(shift):
             first, last = min(t0, at - 0.5 * width), max(t_end, at + 0.5 * width)
-        lo = max(int(np.searchsorted(fine, first)) - 1, 0)
-        hi = min(int(np.searchsorted(fine, last)) + 1, fine.size)
-        lo -= lo % over  # start on a sample instant
+        lo, hi = data.fine_span(first, last)
         forces, _ = model._forces(data, P[:1], sol, fine[lo:hi], names, 0, scales=scales)
         x = np.concatenate(forces)  # (channels, span)
         if any(shift):

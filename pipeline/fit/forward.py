@@ -319,6 +319,14 @@ class RecordData:
         self._memo[key] = value
         return value
 
+    def fine_span(self, first, last) -> tuple[int, int]:
+        """(lo, hi): the slice of the fine grid that holds the instants ``first`` to
+        ``last`` [s] with a fine step to spare on each side, started on a sample instant."""
+        fine = self.fine
+        lo = max(int(fine.searchsorted(first)) - 1, 0)
+        lo -= lo % self.oversample
+        return lo, min(int(fine.searchsorted(last)) + 1, fine.size)
+
     def m_eff_of(self, mass):
         """m* [kg] for a ball of ``mass`` [kg] on this target."""
         return 1.0 / (1.0 / np.asarray(mass, dtype=float) + 1.0 / self.m_target)
@@ -959,9 +967,7 @@ class ForwardModel:
         tc = sol.pulse.tau_c[sol.index] * T
         fine = data.fine
         first = t0.min() if not shifted else min(t0.min(), float(np.min(at - 0.5 * width)))
-        lo = max(int(fine.searchsorted(first)) - 1, 0)
-        hi = min(int(fine.searchsorted((t0 + tc).max())) + 1, fine.size)
-        lo -= lo % data.oversample  # start on a sample instant
+        lo, hi = data.fine_span(first, (t0 + tc).max())
         step = fine[1] - fine[0] if fine.size > 1 else 1.0
         plain = not dynamic.any()  # the low-pass alone: its rows grouped by bandwidth
         if plain:
