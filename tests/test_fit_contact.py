@@ -339,6 +339,80 @@ def test_block_length_from_autocorrelation():
     assert block_length(x) >= 5
 
 
+def _plain_bootstrap(problem, r, J, n_boot, seed):
+    """The block bootstrap's replicates the plain way: every replicate's circular blocks
+    of every channel drawn at once ((B, blocks) starts, then the blocks' samples by index
+    arithmetic modulo the channel's length), their data rows' changes, and the linearised
+    refits' steps θ̂ − θ* = K·(inflate·r*, r_prior), K from numpy's pseudo-inverse."""
+    rng = np.random.default_rng(seed)
+    n = problem.n_data
+    k = problem.vary.size - problem.prior_index.size + problem.datas[0].n_nuisance
+    inflate = math.sqrt(n / (n - k))
+    drawn, start = [], 0
+    for c in problem.datas[0].channels:
+        m = c.t.size
+        seg = r[start : start + m]
+        b = block_length(seg)
+        starts = rng.integers(0, m, size=(n_boot, -(-m // b)))
+        idx = ((starts[:, :, None] + np.arange(b)) % m).reshape(n_boot, -1)[:, :m]
+        drawn.append((seg - seg.mean())[idx])
+        start += m
+    new = np.concatenate(drawn, axis=1)
+    K = np.linalg.pinv(J)
+    return inflate * new - r[None, :n], inflate * new @ K[:, :n].T + r[n:] @ K[:, n:].T
+
+
+def test_block_bootstrap_draws_and_refits_as_all_replicates_at_once(monkeypatch):
+    """block_bootstrap resamples a chunk of replicates at a time (their arrays stay in the
+    cache): its linearised refits, and the data changes it hands the iterated refits, are
+    those of every replicate drawn at once from the same generator — a white channel
+    (block length 1) and an AR(1) one (φ = 0.8: longer blocks), a prior row, replicates
+    not a whole number of chunks."""
+    from types import SimpleNamespace
+
+    from pipeline.fit import uncertainty
+
+    rng = np.random.default_rng(5)
+    m1, m2, p = 300, 250, 4
+    ar = np.zeros(m2)
+    w = rng.standard_normal(m2)
+    for i in range(1, m2):
+        ar[i] = 0.8 * ar[i - 1] + w[i]
+    r = np.concatenate([rng.standard_normal(m1), ar, [0.7]])  # the prior's row last
+    J = rng.standard_normal((r.size, p))
+    chans = [SimpleNamespace(name=nm, t=np.zeros(m)) for nm, m in (("Fn", m1), ("Ft", m2))]
+    problem = SimpleNamespace(
+        n_data=m1 + m2,
+        vary=np.array([0, 2, 3, 5]),
+        prior_index=np.array([5]),
+        datas=[SimpleNamespace(n_nuisance=2, channels=chans)],
+    )
+    theta = np.array([1.0, 9.0, -2.0, 0.5, 9.0, 3.0])
+    lo, hi = np.full(6, -np.inf), np.full(6, np.inf)
+    n_boot = 2 * uncertainty._CHUNK + 7
+    dy, step = _plain_bootstrap(problem, r, J, n_boot, seed=11)
+    boot, blocks = uncertainty.block_bootstrap(
+        problem, theta, r, J, n_boot=n_boot, seed=11, lower=lo, upper=hi
+    )
+    assert blocks["0:Fn"] == 1 and blocks["0:Ft"] >= 3
+    expect = np.repeat(theta[None, :], n_boot, axis=0)
+    expect[:, problem.vary] -= step
+    assert np.allclose(boot, expect, rtol=1e-12, atol=1e-12 * np.abs(step).max())
+    seen = {}
+
+    def iterated(problem, Theta0, dy, **kw):
+        seen["dy"] = dy
+        return Theta0, None
+
+    monkeypatch.setattr(uncertainty, "gauss_newton_many", iterated)
+    uncertainty.block_bootstrap(
+        problem, theta, r, J, n_boot=n_boot, seed=11, lower=lo, upper=hi, iters=2
+    )
+    assert seen["dy"].shape == (n_boot, r.size)
+    assert np.allclose(seen["dy"][:, : problem.n_data], dy, rtol=0, atol=1e-12)
+    assert not seen["dy"][:, problem.n_data :].any()
+
+
 def test_sticking_impact_bounds_mu_only_from_below():
     """5°, μ = 0.4: the contact sticks from first contact (k_t·s0 < μ·(1+c), docs/theory.md,
     Compliant contact) and never reaches the cap where the force matters, so any larger μ gives

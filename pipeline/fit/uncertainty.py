@@ -170,6 +170,13 @@ def block_length(r) -> int:
     return int(min(max(1, math.ceil(b)), max(1, n // 3)))
 
 
+#: Replicates resampled at a time by :func:`block_bootstrap`: a chunk's draws and resampled
+#: residuals (~200 kB each for a thousand samples) stay in the cache and in memory already
+#: mapped, where all 200 replicates' (1.6 MB each) land on fresh pages every fit (~0.8 ms of
+#: page faults on a record of a thousand samples, more than the draws themselves).
+_CHUNK = 25
+
+
 def _circular_blocks(rng, r, b, B):
     """B circular-block resamples of the series r (block length b), shape (B, n)."""
     n = r.size
@@ -222,30 +229,39 @@ def block_bootstrap(
     p = problem.vary.size - problem.prior_index.size
     p += sum(d.n_nuisance for d in problem.datas)
     inflate = math.sqrt(n / max(n - p, 1))
-    parts, blocks = [], {}
-    start = 0
+    v = problem.vary
+    if iters > 0:  # y* = model + σ·r*: in weighted units the data change by r* − r
+        dy = np.zeros((n_boot, r.size))
+    else:  # θ* = θ̂ − K·(inflate·r*, r_prior): the data rows' part summed channel by channel
+        K = _pseudo_inverse(np.asarray(J, dtype=float)) if gain is None else gain
+        step = np.zeros((n_boot, v.size))
+    blocks, start = {}, 0
     for i, d in enumerate(problem.datas):
         for c in d.channels:
-            seg = r[start : start + c.t.size]
+            cols = slice(start, start + c.t.size)
+            seg = r[cols]
             b = block_length(seg)
             blocks[f"{i}:{c.name}"] = b
-            parts.append(_circular_blocks(rng, seg - seg.mean(), b, n_boot))
+            seg0 = seg - seg.mean()
+            Kc = None if iters > 0 else np.ascontiguousarray(K[:, cols].T)  # (samples, p)
+            # the replicates a chunk at a time, in order: the same draws as all at once
+            for lo in range(0, n_boot, _CHUNK):
+                hi = min(lo + _CHUNK, n_boot)
+                drawn = _circular_blocks(rng, seg0, b, hi - lo)
+                if iters > 0:
+                    dy[lo:hi, cols] = inflate * drawn - seg
+                else:
+                    step[lo:hi] += drawn @ Kc
             start += c.t.size
-    new_r = parts[0] if len(parts) == 1 else np.concatenate(parts, axis=1)  # (n_boot, n)
     Theta0 = np.repeat(np.asarray(theta, float)[None, :], n_boot, axis=0)
     if iters > 0:
-        # y* = model + σ·r*: in weighted units the data change by r* − r
-        dy = np.zeros((n_boot, r.size))
-        dy[:, :n] = inflate * new_r - r[None, :n]
         Theta, _ = gauss_newton_many(
             problem, Theta0, dy, lower=lower, upper=upper, iters=iters, jacobian=J, r0=r, tol=0.01
         )
         return Theta, blocks
     # the replicate's residuals at θ̂ are its data rows inflate·r* and the prior rows as
-    # they are: θ* = θ̂ − K·(inflate·r*, r_prior)
-    v = problem.vary
-    K = _pseudo_inverse(np.asarray(J, dtype=float)) if gain is None else gain
-    step = inflate * (new_r @ K[:, :n].T) + r[n:] @ K[:, n:].T
+    # they are
+    step = inflate * step + r[n:] @ K[:, n:].T
     Theta0[:, v] = np.clip(Theta0[:, v] - step, lower[v], upper[v])
     return Theta0, blocks
 
