@@ -260,3 +260,27 @@ def test_prior_rows_of_the_jacobian():
         assert J.shape == (rows.shape[0], problem.n_rows, problem.vary.size)
         for b in range(rows.shape[0]):
             np.testing.assert_array_equal(J[b, problem.n_data :], want)
+
+
+def test_kept_gain_is_the_pseudo_inverse_of_the_jacobian_where_it_was_taken():
+    """Problem.gain: K = (JᵀJ)⁻¹Jᵀ of the Jacobian at θ — after a fit, the one its
+    covariance worked out and kept (the dynamics' bounds reuse it), at the optimum; at
+    another θ, that point's — each against the normal equations' solution with the
+    Jacobian there (prior rows included; its columns scaled to unit norm, their units
+    differing by 10¹⁵), to 1e-8 of its largest entry per parameter."""
+    scene, rec = _record(0.0, seed=3)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", PipelineWarning)
+        fit = fit_contact(rec, scene, tangential="none", diagnose=False, n_boot=0)
+    problem = fit.problem
+    assert problem.prior_index.size >= 1
+    moved = fit.theta.copy()
+    moved[problem.vary[0]] *= 1.01
+    for theta in (fit.theta, moved, fit.theta):
+        J = problem.evaluate(theta[None, :], jacobian=True)[1][0]
+        K = problem.gain(theta)
+        s = np.linalg.norm(J, axis=0)
+        want = np.linalg.solve((J / s).T @ (J / s), (J / s).T) / s[:, None]
+        assert K.shape == want.shape == (problem.vary.size, problem.n_rows)
+        tol = 1e-8 * np.abs(want).max(axis=1, keepdims=True)
+        assert np.all(np.abs(K - want) <= tol)

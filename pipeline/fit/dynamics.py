@@ -57,7 +57,7 @@ import numpy as np
 from scipy import special
 from scipy.signal import lfilter
 
-from .engine import _pseudo_inverse, gauss_newton_many
+from .engine import gauss_newton_many
 from .forward import (
     _I,
     CHAIN_PARAMS,
@@ -531,7 +531,7 @@ def bounds(problem, theta, data, model, *, mode=True, discharge=True) -> dict:
     n = problem.n_data
     r = problem.residual(theta)[:n]
     J = problem.jacobian(theta)
-    K = _pseudo_inverse(J)[:, :n]
+    K = problem.gain(theta)[:, :n]  # the fit's covariance worked it out
     Q = _projector(J[:n])
     P = problem.design.local(np.asarray(theta)[None, :])[0]
     sol = problem.solution(theta)[0]

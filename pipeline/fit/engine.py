@@ -189,6 +189,20 @@ class Problem:
         self.residual(theta)
         return self._last[3]
 
+    def gain(self, theta):
+        """K = (JᵀJ)⁻¹Jᵀ of the Jacobian at θ (:func:`_pseudo_inverse`), kept with it: the
+        fit's covariance works it out (:meth:`keep_gain`), the dynamics' bounds reuse it."""
+        self.residual(theta)
+        if len(self._last) < 5:
+            self._last += (_pseudo_inverse(self._last[2]),)
+        return self._last[4]
+
+    def keep_gain(self, theta, gain):
+        """Keep ``gain``, K of the Jacobian at θ worked out elsewhere
+        (:func:`pipeline.fit.uncertainty.covariance_parts`), for :meth:`gain`."""
+        self.residual(theta)
+        self._last = self._last[:4] + (gain,)
+
 
 def _selection(D):
     """The local parameter each varied one is, where ∂P/∂θ (B, p_local, n_vary) only picks

@@ -185,6 +185,7 @@ def run_fit(model, datas, design, init, vary, notes, *, n_boot=0, seed=0, priors
     nuisance = sum(d.n_nuisance for d in datas)
     redchi = (chi2 - chi2_prior) / max(n - k_free - nuisance, 1)
     parts = covariance_parts(J, n, redchi)
+    problem.keep_gain(theta, parts.gain)  # the dynamics' bounds take it up
     cov = parts.total
     vidx = np.flatnonzero(varied)
     # ---- one-sided parameters (μ, kt_scale, a free bandwidth): χ² flat up to 30× the value?
