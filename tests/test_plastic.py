@@ -377,3 +377,25 @@ def test_a_campaign_holds_the_yield_speed_constant():
     assert json.loads(ds.attrs["joint_fit_json"])["normal"] == "thornton"
     shown = joint_table(ds).loc["alpha"]
     assert (shown["quantity"], shown["unit"]) == ("v_y", "m/s")
+
+
+def test_calibration_starts_newton_within_1e7_of_the_root():
+    """calibrate_thornton's start (the cubic Hermite interpolant of its table of r against
+    √(1 − e), linear where 1 − e < 1e-6) lies within 1e-7 of the root — so that one Newton
+    step reaches rounding — and its result is the root, to 1e-12: both against r found by
+    Brent's method on the closed form (cor_thornton) to 1e-15."""
+    from scipy.optimize import brentq
+
+    from pipeline.contact.plastic import _cor_start
+
+    e = np.concatenate([np.linspace(0.05, 0.999, 60), 1.0 - np.geomspace(1e-9, 1e-4, 6)])
+    root = np.array(
+        [brentq(lambda r, x=x: float(contact.cor_thornton(r)) - x, 1e-12, 1.0, xtol=1e-16,
+                rtol=1e-15) for x in e]
+    )  # fmt: skip
+    start = _cor_start(np.sqrt(1.0 - e))
+    close = 1.0 - e > 1e-6  # where 1 − e carries ten digits and more
+    assert np.all(np.abs(start - root)[close] <= 1e-7 * root[close])
+    assert np.all(np.abs(start - root)[~close] <= 1e-5 * root[~close])
+    got = contact.calibrate_thornton(e)
+    assert np.all(np.abs(got - root)[close] <= 1e-12 * root[close])
