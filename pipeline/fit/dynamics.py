@@ -57,7 +57,7 @@ import numpy as np
 from scipy import special
 from scipy.signal import lfilter
 
-from .engine import gauss_newton_many
+from .engine import _scaled_svd, gauss_newton_many
 from .forward import (
     _I,
     CHAIN_PARAMS,
@@ -117,10 +117,8 @@ def _projector(J):
     """An orthonormal basis of the columns of J (n, p), rank-deficient directions dropped."""
     if J.shape[1] == 0:
         return np.zeros((J.shape[0], 0))
-    s = np.sqrt(np.sum(J * J, axis=0))
-    s = np.where(s > 0, s, 1.0)
-    U, w, _ = np.linalg.svd(J / s, full_matrices=False)
-    return U[:, w > w.max() * 1e-10] if w.size else U[:, :0]
+    _, U, _, _, good = _scaled_svd(J)
+    return U[:, good]
 
 
 def screen(problem, theta, data, model, *, mode=True, discharge=True, shift=True) -> Findings:

@@ -381,13 +381,24 @@ def gauss_newton_many(
     return Theta, chi2
 
 
-def _pseudo_inverse(J):
-    """(JᵀJ)⁻¹Jᵀ by SVD of the column-scaled J (rank-deficient directions dropped)."""
-    s = np.sqrt(np.sum(J * J, axis=0))
+def _scaled_svd(J):
+    """SVD of J with its columns scaled to unit norm (their units differ by up to 10¹⁵: Pa,
+    s): (the scales, U, w, Vᵀ, the singular values kept — above 1e-10 of the largest)."""
+    s = np.sqrt(np.einsum("ij,ij->j", J, J))  # no J² temporary
     s = np.where(s > 0, s, 1.0)
     U, w, Vt = np.linalg.svd(J / s, full_matrices=False)
     good = w > w.max() * 1e-10 if w.size else np.zeros(0, bool)
+    return s, U, w, Vt, good
+
+
+def _gain(s, U, w, Vt, good):
+    """K = (JᵀJ)⁻¹Jᵀ from :func:`_scaled_svd`'s parts (rank-deficient directions dropped)."""
     return ((Vt[good].T / w[good]) @ U[:, good].T) / s[:, None]
+
+
+def _pseudo_inverse(J):
+    """(JᵀJ)⁻¹Jᵀ by SVD of the column-scaled J (rank-deficient directions dropped)."""
+    return _gain(*_scaled_svd(J))
 
 
 def chi2_of(r) -> float:

@@ -45,7 +45,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import special
 
-from .engine import Problem, _pseudo_inverse, gauss_newton_many
+from .engine import Problem, _gain, _pseudo_inverse, _scaled_svd, gauss_newton_many
 
 __all__ = [
     "covariance",
@@ -84,15 +84,6 @@ class CovarianceParts:
     gain: np.ndarray | None = None
 
 
-def _scaled_svd(J):
-    """SVD of the column-scaled J: (scales, U, w, Vᵀ, the singular values kept)."""
-    s = np.sqrt(np.sum(J * J, axis=0))
-    s = np.where(s > 0, s, 1.0)
-    U, w, Vt = np.linalg.svd(J / s, full_matrices=False)
-    good = w > w.max() * 1e-10 if w.size else np.zeros(0, bool)
-    return s, U, w, Vt, good
-
-
 def _null_directions(Vt, good):
     """Parameters with a part in the directions J leaves free (no finite variance)."""
     if np.all(good):
@@ -105,7 +96,7 @@ def covariance_parts(J, n_data, redchi) -> CovarianceParts:
     and the rest one per prior (one SVD: K = (JᵀJ)⁻¹Jᵀ and the free directions)."""
     J = np.asarray(J, dtype=float)
     s, U, w, Vt, good = _scaled_svd(J)
-    K = ((Vt[good].T / w[good]) @ U[:, good].T) / s[:, None]  # (p, rows)
+    K = _gain(s, U, w, Vt, good)  # (p, rows)
     scale = max(1.0, float(redchi))
     Kd, Kp = K[:, :n_data], K[:, n_data:]
     stat = (Kd @ Kd.T) * scale
