@@ -238,14 +238,19 @@ def test_one_pass_weighting_and_kept_filters_are_the_plain_ones():
             np.testing.assert_allclose(got, want, rtol=0, atol=1e-13 * np.abs(want).max())
 
 
+def _head_on_with_priors():
+    """The head-on record's point fit with the default systematics (their prior rows)."""
+    scene, rec = _record(0.0, seed=3)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", PipelineWarning)
+        return fit_contact(rec, scene, tangential="none", diagnose=False, n_boot=0)
+
+
 def test_prior_rows_of_the_jacobian():
     """The Jacobian's rows of the inputs known to a tolerance (kept per problem): the row
     of prior k is 1/u_k in the column of parameter k where it varies, 0 elsewhere (module
     notes of pipeline.fit.engine), for one row of θ, for two, and for one again."""
-    scene, rec = _record(0.0, seed=3)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", PipelineWarning)
-        fit = fit_contact(rec, scene, tangential="none", diagnose=False, n_boot=0)
+    fit = _head_on_with_priors()
     problem = fit.problem
     assert problem.prior_index.size >= 3
     want = np.zeros((problem.prior_index.size, problem.vary.size))
@@ -268,10 +273,7 @@ def test_kept_gain_is_the_pseudo_inverse_of_the_jacobian_where_it_was_taken():
     another θ, that point's — each against the normal equations' solution with the
     Jacobian there (prior rows included; its columns scaled to unit norm, their units
     differing by 10¹⁵), to 1e-8 of its largest entry per parameter."""
-    scene, rec = _record(0.0, seed=3)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", PipelineWarning)
-        fit = fit_contact(rec, scene, tangential="none", diagnose=False, n_boot=0)
+    fit = _head_on_with_priors()
     problem = fit.problem
     assert problem.prior_index.size >= 1
     moved = fit.theta.copy()
