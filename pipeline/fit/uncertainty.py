@@ -190,7 +190,8 @@ def block_bootstrap(
 
     Every replicate is refitted at once. By default (``iters=0``) the refit is the
     Gauss–Newton step from the optimum with the fit's Jacobian, θ* = θ̂ − K(r + Δy),
-    K = (JᵀJ)⁻¹Jᵀ, clipped to the bounds: one matrix product for all replicates, no model
+    K = (JᵀJ)⁻¹Jᵀ, clipped to the bounds: one matrix product for each channel's chunk of
+    :data:`_CHUNK` replicates (drawn a chunk at a time, the same draws), no model
     evaluation. The replicates move the parameters by about their standard error, where
     the model is linear to far better than the noise: iterated refits
     (``iters`` > 0: simplified Gauss–Newton, :func:`pipeline.fit.engine.gauss_newton_many`,
