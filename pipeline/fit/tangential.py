@@ -66,6 +66,7 @@ HISTORY_RULES = ("total", "incremental")
 _G1, _G2 = 0.5 - np.sqrt(3.0) / 6.0, 0.5 + np.sqrt(3.0) / 6.0  # Gauss–Legendre points
 _G12 = np.array([_G1, _G2])
 _MAGNUS_C = np.sqrt(3.0) / 12.0
+_EYE = np.eye(2)[:, :, None]  # Φ_0 = I, against the columns
 _MAX_SEGMENTS = 64
 
 
@@ -117,16 +118,15 @@ class _Pulse:
         self.q = np.sqrt(x)
         self.pn = 1.0 - u
         pos = x > 0
-        zero = np.zeros_like(x)
         # the total rule's d(spring force)/dτ terms, 0 where x = 0: q' = u/(2√x), and on
         # the cap (ξ = σμf/(kc√x)) kc·q'·ξ = σμ·f·u/(2x)
-        self.qd = np.divide(u, 2.0 * self.q, out=zero, where=pos)
-        self.fu_2x = np.divide(f * u, 2.0 * x, out=zero.copy(), where=pos)
+        self.qd = np.divide(u, 2.0 * self.q, out=np.zeros(x.shape), where=pos)
+        self.fu_2x = np.divide(f * u, 2.0 * x, out=np.zeros(x.shape), where=pos)
         self.inner = pos  # x > 0 before the last node (where a slide may end)
         pos[:, -1] = False
         # x, u, f beside their rates u, −f, df at each node: one gather per side of a step
-        # serves the three interpolants of :meth:`at`
-        self.table = np.stack([x, u, f, u, -f, pulse.df], axis=-1)
+        # serves the three interpolants of :meth:`at` (a view of one (6, M, n + 1) block)
+        self.table = np.array([x, u, f, u, -f, pulse.df]).transpose(1, 2, 0)
 
     def at(self, rows, tau, only_x=False):
         """x, u, f at τ (k, m) for the rows (k,) (an index array), each shaped like τ; τ
@@ -233,7 +233,7 @@ def _fundamental(pl: _Pulse, stick: _Stick):
     22 (prefix scan)."""
     M, n = pl.x.shape[0], pl.n
     Phi = np.empty((2, 2, M, n + 1))
-    Phi[..., 0] = np.eye(2)[:, :, None]  # Φ_0 = I
+    Phi[..., 0] = _EYE
     steps = _magnus(stick, (slice(None), None), pl.qg[:, 0], pl.qg[:, 1], pl.h[:, None])
     flat = Phi.reshape(4, M, n + 1)
     for i, v in enumerate(steps):
@@ -255,12 +255,13 @@ def _first_crossing(pl, r, hit, g, t_from):
     Returns the instants (inf for a row without a hit), the rows with one (bool), and their
     positions in ``r``.
     """
-    has = hit.any(axis=1)
+    j = hit.argmax(axis=1)  # the first hit; 0 (node 0 is never one) where there is none
+    has = j > 0
     t = np.full(r.size, np.inf)
-    ev = np.flatnonzero(has)
+    ev = has.nonzero()[0]
     if ev.size:
         every = ev.size == r.size  # the usual case: no copies of the rows
-        j = (hit if every else hit[ev]).argmax(axis=1)
+        j = j if every else j[ev]
         ge = g if every else g[ev]
         k = np.arange(ev.size)
         he = pl.h[r[ev]]
@@ -312,12 +313,12 @@ def tangential_response(
         raise InputError(f"unknown Mindlin history rule {history!r}; choose one of {HISTORY_RULES}")
     M, J = pulse.x.shape
     s0, lam, mu, kc = (_column(a, M) for a in (s0, lam, mu, kc))
-    pn = pulse.pn
-    pn_end = pn[:, -1]
     if tangential == "none":
         z = np.zeros((M, J))
         return TangentialResponse(z, z, z, np.zeros(M, bool), np.zeros(M), np.ones(M, int))
     if tangential == "coulomb":
+        pn = pulse.pn
+        pn_end = pn[:, -1]
         cap = (s0 / lam)[:, None]
         slide = mu[:, None] * pn < cap
         p = np.minimum(mu[:, None] * pn, cap)
@@ -365,12 +366,12 @@ def _mindlin(pulse, s0, lam, mu, kc, history):
     )
     segments = np.zeros(M, dtype=int)
     for _ in range(_MAX_SEGMENTS):
-        if not st.active.any():
+        sticking = st.mode == 0
+        stick_rows = (st.active & sticking).nonzero()[0]
+        slide_rows = (st.active & ~sticking).nonzero()[0]
+        if not (stick_rows.size or slide_rows.size):
             break
         segments += st.active
-        sticking = st.mode == 0
-        stick_rows = np.flatnonzero(st.active & sticking)
-        slide_rows = np.flatnonzero(st.active & ~sticking)
         if stick_rows.size:
             Phi = _fundamental(pl, stick) if Phi is None else Phi
             _stick_segment(pl, stick, Phi, stick_rows, st)
