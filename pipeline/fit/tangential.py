@@ -171,7 +171,8 @@ def _rows(r, M):
 
 
 class _Stick:
-    """Coefficients a(√x), b(√x) of the stick system v' = [[0, a], [b, 0]] v of one rule.
+    """The stick system v' = [[0, a], [b, 0]] v of one rule (coefficients a(√x), b(√x)): its
+    Magnus exponent, the spring force and its rate.
 
     ``rows`` indexes the columns (an index array, a slice, or either with a new axis).
     """
@@ -182,10 +183,19 @@ class _Stick:
         self.lam_kc = -lam * kc  # total rule: s' = −λ·kc·√x·ξ
         self.neg_lam = -lam
 
-    def ab(self, q, rows):
-        if self.total:  # v = (ξ, s): ξ' = s, s' = −λ·kc·√x·ξ
-            return 1.0, self.lam_kc[rows] * q
-        return self.kc[rows] * q, self.neg_lam[rows]  # v = (ft, s): ft' = kc·√x·s, s' = −λ·ft
+    def omega(self, q1, q2, dt, rows):
+        """Magnus's Ω = ½dt(A_1 + A_2) + (√3/12)dt²[A_2, A_1] = [[d, a], [b, −d]] over dt, with
+        √x = q1, q2 at its Gauss points: (a, b, d), for A_i = [[0, a_i], [b_i, 0]] (d =
+        (√3/12)dt²(a_2·b_1 − a_1·b_2)); the rule's constant coefficient as a number."""
+        c = _MAGNUS_C * dt * dt
+        if self.total:  # v = (ξ, s): ξ' = s, s' = −λ·kc·√x·ξ (a = 1)
+            lk = self.lam_kc[rows]
+            b1, b2 = lk * q1, lk * q2
+            return dt, 0.5 * dt * (b1 + b2), c * (b1 - b2)
+        # v = (ft, s): ft' = kc·√x·s, s' = −λ·ft (b = −λ)
+        kc, b = self.kc[rows], self.neg_lam[rows]
+        a1, a2 = kc * q1, kc * q2
+        return 0.5 * dt * (a1 + a2), dt * b, c * (a2 * b - a1 * b)
 
     def force(self, v1, q, rows):
         return self.kc[rows] * q * v1 if self.total else v1
@@ -216,16 +226,13 @@ def _expm(a, b, d):
         S = Sr / r
     else:  # sinh(θ)/θ → 1 + θ²/6
         S = np.where(big, Sr / np.where(big, r, 1.0), 1.0 + t2 / 6.0)
-    return C + S * d, S * a, S * b, C - S * d
+    Sd = S * d
+    return C + Sd, S * a, S * b, C - Sd
 
 
 def _magnus(stick, rows, q1, q2, dt):
     """4th-order Magnus propagator over dt with √x = q1, q2 at its Gauss points."""
-    a1, b1 = stick.ab(q1, rows)
-    a2, b2 = stick.ab(q2, rows)
-    return _expm(
-        0.5 * dt * (a1 + a2), 0.5 * dt * (b1 + b2), _MAGNUS_C * dt * dt * (a2 * b1 - a1 * b2)
-    )
+    return _expm(*stick.omega(q1, q2, dt, rows))
 
 
 def _fundamental(pl: _Pulse, stick: _Stick):
@@ -249,28 +256,31 @@ def _fundamental(pl: _Pulse, stick: _Stick):
     return flat
 
 
-def _first_crossing(pl, r, hit, g, t_from):
-    """Where g (rows ``r``, on the nodes) first rises through zero: by regula falsi between
-    the first node marked in ``hit`` (never node 0; g > 0 there) and the one before it (g
-    there taken as ≤ 0), not before ``t_from``.
+def _first_crossing(h, hit, g, t_from):
+    """Where g (some rows, on the nodes; their steps ``h``) first rises through zero: by
+    regula falsi between the first node marked in ``hit`` (never node 0; g > 0 there) and
+    the one before it (g there taken as ≤ 0), not before ``t_from``.
 
     Returns the instants (inf for a row without a hit), the rows with one (bool), and their
-    positions in ``r``.
+    positions among the rows.
     """
     j = hit.argmax(axis=1)  # the first hit; 0 (node 0 is never one) where there is none
     has = j > 0
-    t = np.full(r.size, np.inf)
     ev = has.nonzero()[0]
+    if ev.size == j.size:  # the usual case: a hit in every row, no copies of the rows
+        return _root(g, j, h, t_from), has, ev
+    t = np.full(j.size, np.inf)
     if ev.size:
-        every = ev.size == r.size  # the usual case: no copies of the rows
-        j = j if every else j[ev]
-        ge = g if every else g[ev]
-        k = np.arange(ev.size)
-        he = pl.h[r[ev]]
-        g_lo = np.minimum(ge[k, j - 1], 0.0)
-        # the line's root between the nodes: −g_lo/(g_hi − g_lo) ∈ [0, 1] as g_hi > 0 ≥ g_lo
-        t[ev] = np.maximum((j - 1 - g_lo / (ge[k, j] - g_lo)) * he, t_from[ev])
+        t[ev] = _root(g[ev], j[ev], h[ev], t_from[ev])
     return t, has, ev
+
+
+def _root(g, j, h, t_from):
+    """The root of g's line between nodes j − 1 and j of each row, not before t_from."""
+    k = np.arange(j.size)
+    g_lo = np.minimum(g[k, j - 1], 0.0)
+    # the line's root between the nodes: −g_lo/(g_hi − g_lo) ∈ [0, 1] as g_hi > 0 ≥ g_lo
+    return np.maximum((j - 1 - g_lo / (g[k, j] - g_lo)) * h, t_from)
 
 
 def _put(a, R, where, v):
@@ -457,7 +467,7 @@ def _stick_segment(pl, stick, Phi, r, st):
     g = np.abs(F) - st.mu[RC] * pl.f[R]
     # the spring reaches the cap (the trajectory extends back past t_a, so the node before
     # the first hit is on it even when t_a lies beyond it)
-    te, has, ev = _first_crossing(pl, r, (pl.node > k[:, None]) & (g > 0), g, ta)
+    te, has, ev = _first_crossing(hr, (pl.node > k[:, None]) & (g > 0), g, ta)
     tr = pl.tau[R]
     own = (tr >= ta[:, None]) & (tr < te[:, None])
     _put(st.ft, R, own, F)
@@ -506,7 +516,7 @@ def _slide_segment(pl, stick, r, st):
     hit = (tr > ta[:, None]) & pl.inner[R] & (Rl < 0)
     if not (st.mu[R] > 0).all():
         hit &= (st.mu[R] > 0)[:, None]
-    t_r, has, ev = _first_crossing(pl, r, hit, -Rl, ta)
+    t_r, has, ev = _first_crossing(pl.h[R], hit, -Rl, ta)
     own = (tr >= ta[:, None]) & (tr < t_r[:, None])
     _put(st.ft, R, own, smr * f)
     _put(st.dft, R, own, smr * df)
