@@ -375,6 +375,7 @@ def _mindlin(pulse, s0, lam, mu, kc, history):
         dft=np.zeros((M, J)),
         slide_pn=np.zeros(M),
         kink=np.zeros((M, J), dtype=bool),
+        may_stick=pl.inner if (mu > 0).all() else pl.inner & (mu > 0)[:, None],
     )
     segments = np.zeros(M, dtype=int)
     for _ in range(_MAX_SEGMENTS):
@@ -393,7 +394,7 @@ def _mindlin(pulse, s0, lam, mu, kc, history):
     pn_end = pl.pn[:, -1]
     share = np.divide(st.slide_pn, pn_end, out=np.zeros(M), where=pn_end > 0)
     share = np.minimum(np.maximum(share, 0.0), 1.0)
-    slip_stops = (lam[:, None] * st.p >= s0[:, None]).any(axis=1)  # s0 − λp ≤ 0
+    slip_stops = lam * st.p.max(axis=1) >= s0  # s0 − λp ≤ 0 somewhere (λ > 0)
     return TangentialResponse(
         p=st.p,
         ft=st.ft,
@@ -414,7 +415,8 @@ class _State:
     t_a, p_a, pn_a (M,) the segment's start τ, p and normal percussion; v1, v2 (M,) the
     stick state (ξ or ft, and the slip s); active (M,) the columns still in contact; p, ft,
     dft (M, J) the solution on the nodes; slide_pn (M,) the normal percussion delivered
-    while sliding.
+    while sliding; kink (M, J) the steps holding a switch; may_stick (M, J) the nodes where
+    a slide may end (x > 0 before the last node; never for μ = 0).
     """
 
     s0: np.ndarray
@@ -433,6 +435,7 @@ class _State:
     dft: np.ndarray
     slide_pn: np.ndarray
     kink: np.ndarray
+    may_stick: np.ndarray
 
     def switch(self, rows, t, h):
         """Rows ``rows`` switch mode at τ = ``t``: the next segment starts there, and the
@@ -512,10 +515,8 @@ def _slide_segment(pl, stick, r, st):
     if stick.total:  # on the cap ξ = σμf/(kc√x): the term kc·q'·ξ = μ·f·u/(2x)
         Rl += mr * pl.fu_2x[R]
     tr = pl.tau[R]
-    # −R rises through zero (the closed form extends before t_a); μ = 0 never sticks
-    hit = (tr > ta[:, None]) & pl.inner[R] & (Rl < 0)
-    if not (st.mu[R] > 0).all():
-        hit &= (st.mu[R] > 0)[:, None]
+    # −R rises through zero (the closed form extends before t_a)
+    hit = (tr > ta[:, None]) & st.may_stick[R] & (Rl < 0)
     t_r, has, ev = _first_crossing(pl.h[R], hit, -Rl, ta)
     own = (tr >= ta[:, None]) & (tr < t_r[:, None])
     _put(st.ft, R, own, smr * f)
@@ -531,9 +532,11 @@ def _slide_segment(pl, stick, r, st):
         sm = sig[ev] * st.mu[re]
         pr = st.p_a[re] + sm * (pn_ - pn_s[ev])
         cap = sm * f_
-        q = np.sqrt(x)
-        xi = np.divide(cap, st.kc[re] * q, out=np.zeros_like(q), where=q > 0)
-        st.v1[re] = xi if stick.total else cap
+        if stick.total:  # the spring's ξ on the cap, cap/(kc√x) (0 where x = 0)
+            q = np.sqrt(x)
+            st.v1[re] = np.divide(cap, st.kc[re] * q, out=np.zeros(q.shape), where=q > 0)
+        else:
+            st.v1[re] = cap
         st.v2[re] = st.s0[re] - st.lam[re] * pr
         st.mode[re] = 0
         st.switch(re, t_e, pl.h[re])
