@@ -85,3 +85,33 @@ def test_columns_solved_together_equal_columns_solved_one_by_one(history):
         for name in ("segments", "slip_stops", "kink"):
             np.testing.assert_array_equal(getattr(both, name)[i], getattr(one, name)[0])
         assert both.slide_share[i] == pytest.approx(one.slide_share[0], abs=1e-13)
+
+
+def test_pulse_interpolant_is_the_cubic_hermite_of_the_nodes():
+    """The segments' x, u, f between the nodes (the switches' states, the partial steps' Gauss
+    points) are the cubic Hermite interpolants of the node values with the rates u, −f, f'
+    (scipy's CubicHermiteSpline on each column, independently), x and f floored at 0, τ
+    clipped to the contact; x alone the same (to rounding) as x of all three."""
+    from scipy.interpolate import CubicHermiteSpline
+
+    from pipeline.fit.tangential import _Pulse
+
+    pul = normal_pulse("hunt_crossley", np.array([0.9, 0.5, 0.75]), 64)
+    pl = _Pulse(pul)
+    rng = np.random.default_rng(3)
+    rows = np.array([2, 0])
+    tau = rng.uniform(-0.05, 1.05, (2, 7)) * pul.tau_c[rows, None]
+    tau[0, :2] = pl.tau[rows[0], [5, 64]]  # on a node, and the last one
+    x, u, f = pl.at(rows, tau)
+    for i, row in enumerate(rows):
+        t = np.clip(tau[i], 0.0, pul.tau_c[row])
+        nodes = np.linspace(0.0, pul.tau_c[row], 65)
+        for got, y, dy, floor in (
+            (x, pul.x, pul.u, True),
+            (u, pul.u, -pul.f, False),
+            (f, pul.f, pul.df, True),
+        ):
+            want = CubicHermiteSpline(nodes, y[row], dy[row])(t)
+            want = np.maximum(want, 0.0) if floor else want
+            np.testing.assert_allclose(got[i], want, rtol=0, atol=1e-13 * np.abs(y[row]).max())
+    np.testing.assert_allclose(pl.at(rows, tau, only_x=True), x, rtol=0, atol=1e-14 * pul.x.max())
