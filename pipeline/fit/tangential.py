@@ -379,9 +379,14 @@ def _mindlin(pulse, s0, lam, mu, kc, history):
         slide_pn=np.zeros(M),
         kink=np.zeros((M, J), dtype=bool),
         may_stick=pl.inner if (mu > 0).all() else pl.inner & (mu > 0)[:, None],
+        stalled=np.zeros(M, dtype=bool),
     )
     segments = np.zeros(M, dtype=int)
+    seen = np.full((2, M), np.nan)  # each row's start two segments back and one back
     for _ in range(_MAX_SEGMENTS):
+        # a row back where it was two segments ago has stuck and slid without moving on
+        st.stalled = seen[0] == st.t_a
+        seen = np.stack([seen[1], st.t_a])
         sticking = st.mode == 0
         stick_rows = (st.active & sticking).nonzero()[0]
         slide_rows = (st.active & ~sticking).nonzero()[0]
@@ -419,7 +424,8 @@ class _State:
     stick state (ξ or ft, and the slip s); active (M,) the columns still in contact; p, ft,
     dft (M, J) the solution on the nodes; slide_pn (M,) the normal percussion delivered
     while sliding; kink (M, J) the steps holding a switch; may_stick (M, J) the nodes where
-    a slide may end (x > 0 before the last node; never for μ = 0).
+    a slide may end (x > 0 before the last node; never for μ = 0); stalled (M,) the rows
+    back where they were two segments ago (a stick and a slide of no length).
     """
 
     s0: np.ndarray
@@ -439,6 +445,7 @@ class _State:
     slide_pn: np.ndarray
     kink: np.ndarray
     may_stick: np.ndarray
+    stalled: np.ndarray
 
     def switch(self, rows, t, h):
         """Rows ``rows`` switch mode at τ = ``t``: the next segment starts there, and the
@@ -473,7 +480,8 @@ def _stick_segment(pl, stick, Phi, r, st):
     g = np.abs(F) - st.mu[RC] * pl.f[R]
     # the spring reaches the cap (the trajectory extends back past t_a, so the node before
     # the first hit is on it even when t_a lies beyond it)
-    te, has, ev = _first_crossing(hr, (pl.node > k[:, None]) & (g > 0), g, ta)
+    hit = (pl.node > k[:, None]) & (g > 0)
+    te, has, ev = _first_crossing(hr, hit, g, ta)
     tr = pl.tau[R]
     own = (tr >= ta[:, None]) & (tr < te[:, None])
     _put(st.ft, R, own, F)
@@ -489,12 +497,19 @@ def _stick_segment(pl, stick, Phi, r, st):
         tl_node = tl * he
         # x at the partial step's Gauss points and x, u at the switch: one interpolation
         pts = np.concatenate([pl.gauss_points(tl_node, t_e), t_e[:, None]], axis=1)
-        x, u, _ = pl.at(re, pts)
+        x, u, f = pl.at(re, pts)
         qg = np.sqrt(x)
         Mq = _magnus(stick, re, qg[:, 0], qg[:, 1], t_e - tl_node)
         a, b = V1[ev, tl], V2[ev, tl]
         xi, s = Mq[0] * a + Mq[1] * b, Mq[2] * a + Mq[3] * b
-        st.mode[re] = np.where(stick.force(xi, qg[:, 2], re) >= 0, 1, -1)
+        push = stick.force(xi, qg[:, 2], re)
+        # at the contact's first instant the cap is nil and the spring's force there no
+        # more than rounding, whose sign could send the slide against the slip — released
+        # at once, over and over: there the slide pushes as the spring does at the first
+        # node beyond the cap, where |F| > μ·f
+        j = hit[ev].argmax(axis=1)
+        nil = f[:, 2] <= 1e-9 * pl.f[re, j]
+        st.mode[re] = np.where(np.where(nil, F[ev, j], push) >= 0, 1, -1)
         st.switch(re, t_e, he)
         st.p_a[re] = (st.s0[re] - s) / st.lam[re]
         st.pn_a[re] = 1.0 - u[:, 2]
@@ -521,6 +536,16 @@ def _slide_segment(pl, stick, r, st):
     # −R rises through zero (the closed form extends before t_a)
     hit = (tr > ta[:, None]) & st.may_stick[R] & (Rl < 0)
     t_r, has, ev = _first_crossing(pl.h[R], hit, -Rl, ta)
+    at_once = has & (t_r <= ta) & st.stalled[r]
+    if at_once.any():
+        # released where it began, once more: the spring's and the cap's rates tie there
+        # (at the contact's first instant, where the spring's rate kc·s0 — ⅔ of it by the
+        # incremental rule — and μ are as good as equal, or where the cap lets go as
+        # Thornton's force does) and the steps' rounding sends stick and slide back and
+        # forth without moving on; the slide holds to the first node past its start
+        i = at_once.nonzero()[0]
+        hit[i, hit[i].argmax(axis=1)] = False
+        t_r, has, ev = _first_crossing(pl.h[R], hit, -Rl, ta)
     own = (tr >= ta[:, None]) & (tr < t_r[:, None])
     _put(st.ft, R, own, smr * f)
     _put(st.dft, R, own, smr * df)
