@@ -32,8 +32,15 @@ product, taken in log2(n) vectorised passes (Hillis–Steele scan).
 **Switches** are located, not stepped over: stick → slide where the spring force reaches the
 Coulomb cap, slide → stick where the spring, left free, would fall back inside it
 (:math:`\sigma\,\mathrm{d}f_{spring}/\mathrm{d}\tau < \mu f'`), each by regula falsi on
-the interpolated pulse; the initial mode as in :func:`pipeline.simulate.impact`. The loop
-runs over stick/slide segments (a handful per impact), for all parameter sets at once.
+the interpolated pulse; the initial mode as in :func:`pipeline.simulate.impact`. Where the
+two conditions tie at one instant — a spring that reaches its cap at the contact's first
+instant, where the cap is nil, or Thornton's cap letting go faster than the spring unloads —
+the slide pushes as the spring does at the first node beyond the cap, and a slide released
+where it began a second time holds to the next node, so the solution moves on. The loop
+runs over stick/slide segments (a handful per impact, ≤ 33 over kc ≤ 100 and μ ≤ 1), for
+all parameter sets at once, to at most 64: a far stiffer spring (kc ≳ 200, ``kt_scale`` ≳
+80) sticks and slides again with every swing of its oscillation, and the contact left after
+the 64th segment keeps no tangential force.
 This is the continuous-time model :func:`pipeline.simulate.impact` integrates adaptively;
 ``tests/test_fit_contact.py`` checks the two against each other.
 
