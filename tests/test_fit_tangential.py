@@ -117,34 +117,40 @@ def test_pulse_interpolant_is_the_cubic_hermite_of_the_nodes():
     np.testing.assert_allclose(pl.at(rows, tau, only_x=True), x, rtol=0, atol=1e-14 * pul.x.max())
 
 
-#: Columns where stick and slide tie at one instant (law, rule, steps, e, s0, λ, μ, kc): the
+#: Columns where stick and slide tie at one instant (law, rule, steps, e, s0, λ, μ, kc, and
+#: the coarse grid's error allowed, of the percussion's scale): the
 #: spring reaching its cap at the contact's first instant ((2/3)·kc·s0 ≈ μ for the
 #: incremental rule, the force there only rounding), and Thornton's cap letting go faster
-#: than the spring unloads. Each once ran stick and slide of no length to the segment limit
-#: and returned no tangential force.
+#: than the spring unloads. Each once ran stick and slide of (next to) no length to the
+#: segment limit and returned no tangential force. The error allowed is the coarse grid's own:
+#: ~1 % at 64 steps, 12 % at the let-go of a stiff spring (kc ≈ 60, μ ≈ 0.8) whose sticks
+#: there are shorter than a step (on 128 steps it is 0.3 %).
 _TIES = [
     ("viscoelastic", "incremental", 128, 0.8356171651282855, 1.8540909696735473,
-     2.1488571039971816, 0.01633948131947873, 0.09968930510479386),
+     2.1488571039971816, 0.01633948131947873, 0.09968930510479386, 1e-2),
     ("hunt_crossley", "incremental", 64, 0.8802879830632857, 1.217778945408206,
-     2.6205531736316363, 0.0771984530825341, 0.1133735990355715),
+     2.6205531736316363, 0.0771984530825341, 0.1133735990355715, 1e-2),
     ("thornton", "incremental", 64, 0.3886322332116267, 3.353789071996579,
-     2.6610816440492235, 0.9929647830851447, 87.12481237356087),
+     2.6610816440492235, 0.9929647830851447, 87.12481237356087, 1e-2),
+    # creeping rather than stuck: slides of ~1e-4 of a step between sticks of none
+    ("thornton", "incremental", 64, 0.14490470081807333, 0.07438766902405017,
+     3.2749811201870123, 0.8428124043928613, 62.141581576208466, 0.15),
 ]  # fmt: skip
 
 
-@pytest.mark.parametrize("law, history, n, e, s0, lam, mu, kc", _TIES)
-def test_stick_and_slide_tied_at_one_instant_move_on(law, history, n, e, s0, lam, mu, kc):
+@pytest.mark.parametrize("law, history, n, e, s0, lam, mu, kc, tol", _TIES)
+def test_stick_and_slide_tied_at_one_instant_move_on(law, history, n, e, s0, lam, mu, kc, tol):
     """Such a column's solution converges as the steps shrink: on its own grid it agrees
-    with the same column on 32× finer steps (within the coarse grid's discretisation error,
-    ~1 % of the percussion's scale at 64 steps), neither near the segment limit; where the slip
-    never stops (Pt below s0/λ throughout: gross slip from the first step) Pt is μ·Pn, whose
-    end is μ·(1 + e) (Routh's sliding impact)."""
+    with the same column on 32× finer steps (within the coarse grid's discretisation error
+    ``tol``), neither near the segment limit; where the slip never stops (Pt below s0/λ
+    throughout: gross slip from the first step) Pt is μ·Pn, whose end is μ·(1 + e) (Routh's
+    sliding impact)."""
     coarse = tangential_response(normal_pulse(law, np.array([e]), n), s0, lam, mu, kc,
                                  history=history)  # fmt: skip
     fine = tangential_response(normal_pulse(law, np.array([e]), 32 * n), s0, lam, mu, kc,
                                history=history)  # fmt: skip
     assert max(coarse.segments[0], fine.segments[0]) < 32
     scale = np.abs(fine.p).max()
-    np.testing.assert_allclose(coarse.p[0], fine.p[0, ::32], rtol=0, atol=1e-2 * scale)
+    np.testing.assert_allclose(coarse.p[0], fine.p[0, ::32], rtol=0, atol=tol * scale)
     if not fine.slip_stops[0]:
         assert coarse.p[0].max() == pytest.approx(mu * (1.0 + e), rel=1e-3)
