@@ -509,6 +509,11 @@ def run(out_dir: Path, replicates: int | None = None) -> dict:
     return result
 
 
+def _names(printed) -> str:
+    """The module names of a printed Python list (the fit process's output), comma-separated."""
+    return ", ".join(n.strip(" '\"") for n in str(printed).strip("[]").split(",") if n.strip())
+
+
 def _plot(path, result):
     from matplotlib.figure import Figure
 
@@ -558,7 +563,7 @@ def _plot(path, result):
     ax.set_ylabel("wall time of a fresh process [s]")
     ax.set_title(
         f"first fit: {f['fit_over_imports']:.2f}× the imports\n"
-        f"unused libraries imported: {str(f['unused_libraries_imported']).strip('[]') or 'none'}",
+        f"unused libraries imported: {_names(f['unused_libraries_imported']) or 'none'}",
         fontsize=8,
     )
     fig.suptitle(

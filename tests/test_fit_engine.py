@@ -23,7 +23,7 @@ from _rig import GR_RIG as GR
 
 from pipeline import Scene
 from pipeline.errors import PipelineWarning
-from pipeline.fit import fit_contact
+from pipeline.fit import engine, fit_contact
 from pipeline.sensor_model import to_sensor
 from pipeline.simulate import impact
 
@@ -272,7 +272,8 @@ def test_kept_gain_is_the_pseudo_inverse_of_the_jacobian_where_it_was_taken():
     covariance worked out and kept (the dynamics' bounds reuse it), at the optimum; at
     another θ, that point's — each against the normal equations' solution with the
     Jacobian there (prior rows included; its columns scaled to unit norm, their units
-    differing by 10¹⁵), to 1e-8 of its largest entry per parameter."""
+    differing by 10¹⁵), to 1e-8 of its largest entry per parameter; and a K handed to
+    :meth:`keep_gain` is the one returned at its θ, never at another."""
     fit = _head_on_with_priors()
     problem = fit.problem
     assert problem.prior_index.size >= 1
@@ -286,3 +287,17 @@ def test_kept_gain_is_the_pseudo_inverse_of_the_jacobian_where_it_was_taken():
         assert K.shape == want.shape == (problem.vary.size, problem.n_rows)
         tol = 1e-8 * np.abs(want).max(axis=1, keepdims=True)
         assert np.all(np.abs(K - want) <= tol)
+    # a K worked out elsewhere is kept with the Jacobian of its θ, and only there
+    problem.residual(fit.theta)
+    given = np.zeros((problem.vary.size, problem.n_rows))
+    problem.keep_gain(fit.theta, given)
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(engine, "_pseudo_inverse", _must_not_run)
+        assert problem.gain(fit.theta) is given
+    problem.keep_gain(moved, given)  # not the point last evaluated: nothing kept
+    assert problem.gain(fit.theta) is given
+    assert problem.gain(moved) is not given
+
+
+def _must_not_run(J):
+    raise AssertionError("the pseudo-inverse was worked out again")

@@ -297,7 +297,7 @@ def calibrate_thornton(e):
     Inverts the closed form of :func:`cor_thornton` (increasing in r) to double precision:
     bisection-safeguarded Newton iteration on √(1 − e(r)), which is linear in 1 − r at the
     onset of yield where e(r) itself is flat (de/dr = 0 at r = 1), from the cubic Hermite
-    interpolant of a table of r and dr/d√(1 − e) made once (~1e-8 of r: one Newton step
+    interpolant of a table of r and dr/d√(1 − e) made once (~3e-8 of r at most: one Newton step
     lands within rounding, a second confirms it); r = 1 for e = 1 (the onset; every r ≥ 1
     gives e = 1). Multiply by v0 for the yield speed; :func:`yield_pressure` gives p_y.
 
@@ -326,6 +326,10 @@ def calibrate_thornton(e):
     return _f(np.where(e >= 1.0, 1.0, r).reshape(e_in.shape))
 
 
+#: √(1 − e) below which :func:`_cor_table` interpolates linearly.
+_H_LINEAR = 1e-3
+
+
 @functools.cache
 def _cor_table():
     """(√(1 − e) at the nodes, each interval's cubic in t ∈ [0, 1] across it: (intervals, 4),
@@ -344,12 +348,9 @@ def _cor_table():
     r0, r1, d0, d1 = r[:-1], r[1:], slope[:-1] * step, slope[1:] * step
     coef = np.column_stack([r0, d0, 3.0 * (r1 - r0) - 2.0 * d0 - d1, 2.0 * (r0 - r1) + d0 + d1])
     linear = h[:-1] < _H_LINEAR
-    coef[linear] = np.column_stack([r0, r1 - r0, 0.0 * r0, 0.0 * r0])[linear]
+    zero = np.zeros_like(r0)
+    coef[linear] = np.column_stack([r0, r1 - r0, zero, zero])[linear]
     return h, coef
-
-
-#: √(1 − e) below which :func:`_cor_table` interpolates linearly.
-_H_LINEAR = 1e-3
 
 
 def _cor_start(h):

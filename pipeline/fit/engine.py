@@ -199,9 +199,11 @@ class Problem:
 
     def keep_gain(self, theta, gain):
         """Keep ``gain``, K of the Jacobian at θ worked out elsewhere
-        (:func:`pipeline.fit.uncertainty.covariance_parts`), for :meth:`gain`."""
-        self.residual(theta)
-        self._last = self._last[:4] + (gain,)
+        (:func:`pipeline.fit.uncertainty.covariance_parts`), for :meth:`gain` — where θ is
+        the point the problem last evaluated (else there is nothing to keep it with)."""
+        last = self._last
+        if gain is not None and last is not None and (last[0] == np.asarray(theta)).all():
+            self._last = last[:4] + (gain,)
 
 
 def _selection(D):
