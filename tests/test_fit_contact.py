@@ -346,10 +346,10 @@ def _plain_bootstrap(problem, r, J, n_boot, seed):
     refits' steps θ̂ − θ* = K·(inflate·r*, r_prior), K from numpy's pseudo-inverse."""
     rng = np.random.default_rng(seed)
     n = problem.n_data
-    k = problem.vary.size - problem.prior_index.size + problem.datas[0].n_nuisance
+    k = problem.vary.size - problem.prior_index.size + sum(d.n_nuisance for d in problem.datas)
     inflate = math.sqrt(n / (n - k))
     drawn, start = [], 0
-    for c in problem.datas[0].channels:
+    for c in (c for d in problem.datas for c in d.channels):  # records, then their channels
         m = c.t.size
         seg = r[start : start + m]
         b = block_length(seg)
@@ -365,27 +365,34 @@ def _plain_bootstrap(problem, r, J, n_boot, seed):
 def test_block_bootstrap_draws_and_refits_as_all_replicates_at_once(monkeypatch):
     """block_bootstrap resamples a chunk of replicates at a time (their arrays stay in the
     cache): its linearised refits, and the data changes it hands the iterated refits, are
-    those of every replicate drawn at once from the same generator — a white channel
-    (block length 1) and an AR(1) one (φ = 0.8: longer blocks), a prior row, replicates
-    not a whole number of chunks."""
+    those of every replicate drawn at once from the same generator — two records (a joint
+    fit's), the first with a white channel (block length 1) and an AR(1) one (φ = 0.8:
+    longer blocks), a prior row, replicates not a whole number of chunks."""
     from types import SimpleNamespace
 
     from pipeline.fit import uncertainty
 
     rng = np.random.default_rng(5)
-    m1, m2, p = 300, 250, 4
+    m1, m2, m3, p = 300, 250, 120, 4
     ar = np.zeros(m2)
     w = rng.standard_normal(m2)
     for i in range(1, m2):
         ar[i] = 0.8 * ar[i - 1] + w[i]
-    r = np.concatenate([rng.standard_normal(m1), ar, [0.7]])  # the prior's row last
-    J = rng.standard_normal((r.size, p))
-    chans = [SimpleNamespace(name=nm, t=np.zeros(m)) for nm, m in (("Fn", m1), ("Ft", m2))]
+    r = np.concatenate([rng.standard_normal(m1), ar, rng.standard_normal(m3), [0.7]])
+    J = rng.standard_normal((r.size, p))  # the prior's row last
+
+    def record(*sizes):
+        chans = [
+            SimpleNamespace(name=nm, t=np.zeros(m))
+            for nm, m in zip(("Fn", "Ft"), sizes, strict=False)
+        ]
+        return SimpleNamespace(n_nuisance=2, channels=chans)
+
     problem = SimpleNamespace(
-        n_data=m1 + m2,
+        n_data=m1 + m2 + m3,
         vary=np.array([0, 2, 3, 5]),
         prior_index=np.array([5]),
-        datas=[SimpleNamespace(n_nuisance=2, channels=chans)],
+        datas=[record(m1, m2), record(m3)],
     )
     theta = np.array([1.0, 9.0, -2.0, 0.5, 9.0, 3.0])
     lo, hi = np.full(6, -np.inf), np.full(6, np.inf)
@@ -394,7 +401,7 @@ def test_block_bootstrap_draws_and_refits_as_all_replicates_at_once(monkeypatch)
     boot, blocks = uncertainty.block_bootstrap(
         problem, theta, r, J, n_boot=n_boot, seed=11, lower=lo, upper=hi
     )
-    assert blocks["0:Fn"] == 1 and blocks["0:Ft"] >= 3
+    assert blocks["0:Fn"] == 1 and blocks["0:Ft"] >= 3 and set(blocks) == {"0:Fn", "0:Ft", "1:Fn"}
     expect = np.repeat(theta[None, :], n_boot, axis=0)
     expect[:, problem.vary] -= step
     assert np.allclose(boot, expect, rtol=1e-12, atol=1e-12 * np.abs(step).max())
