@@ -398,16 +398,20 @@ def first_fit(repeat) -> dict:
     args = ["fit", str(SAMPLE.relative_to(ROOT))]
     cmds = {"imports": [py, "-c", IMPORTS], "fit": [py, "-c", fit_cli, *args]}
     unused = (
-        "import sys, contextlib, io\nfrom pipeline.cli import main\n"
+        "import sys, contextlib, io, json\nfrom pipeline.cli import main\n"
         "with contextlib.redirect_stdout(io.StringIO()): main(sys.argv[1:])\n"
-        f"print(sorted({{m.split('.')[0] for m in sys.modules}} & {set(UNUSED_BY_A_FIT)!r}))"
+        f"print(json.dumps(sorted({{m.split('.')[0] for m in sys.modules}} & "
+        f"{set(UNUSED_BY_A_FIT)!r})))"
     )
     with tempfile.TemporaryDirectory() as cache, tempfile.TemporaryDirectory() as pyc:
         env = _fresh_env(cache, pyc)
         cold = _wall(cmds["fit"], env)  # solves the master curves, fills the cache
-        imported = subprocess.run(
-            [py, "-c", unused, *args], env=env, cwd=ROOT, capture_output=True, text=True, check=True
-        ).stdout.strip()
+        imported = json.loads(
+            subprocess.run(
+                [py, "-c", unused, *args], env=env, cwd=ROOT, capture_output=True, text=True,
+                check=True,
+            ).stdout
+        )  # fmt: skip
         for c in cmds.values():  # the modules' bytecode written, as a user's first run does
             _wall(c, env)
         times = {k: [] for k in cmds}
@@ -509,11 +513,6 @@ def run(out_dir: Path, replicates: int | None = None) -> dict:
     return result
 
 
-def _names(printed) -> str:
-    """The module names of a printed Python list (the fit process's output), comma-separated."""
-    return ", ".join(n.strip(" '\"") for n in str(printed).strip("[]").split(",") if n.strip())
-
-
 def _plot(path, result):
     from matplotlib.figure import Figure
 
@@ -563,7 +562,7 @@ def _plot(path, result):
     ax.set_ylabel("wall time of a fresh process [s]")
     ax.set_title(
         f"first fit: {f['fit_over_imports']:.2f}× the imports\n"
-        f"unused libraries imported: {_names(f['unused_libraries_imported']) or 'none'}",
+        f"unused libraries imported: {', '.join(f['unused_libraries_imported']) or 'none'}",
         fontsize=8,
     )
     fig.suptitle(
