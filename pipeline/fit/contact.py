@@ -799,11 +799,15 @@ def _prepare(record, scene, model, options) -> RecordData:
     return prepare(record, scene, channels=model.channels, **given)
 
 
-def fit_model(record, scene, model, vary, *, t_begin=None, data=None, **options) -> ContactFit:
+def fit_model(
+    record, scene, model, vary, *, t_begin=None, data=None, lean=False, **options
+) -> ContactFit:
     """Fit ``model`` (a :class:`~pipeline.fit.forward.ForwardModel`, or the rigid model of
     :mod:`pipeline.fit.select`) to one record: the work behind :func:`fit_contact`, whose
     options it takes. ``data``: the record already prepared with those options
-    (:func:`pipeline.fit.forward.prepare`), as the verdict's fits share it.
+    (:func:`pipeline.fit.forward.prepare`), as the verdict's fits share it. ``lean``: a fit
+    read for its χ² and values alone, as the verdict's fits of the other laws and filter
+    orders are (:func:`pipeline.fit.procedure.run_fit`: no misfit test, no standard errors).
 
     Where the systematics look for the sensor's dynamics (their mapping holds
     ``"resonance"``, ``"discharge"``) and the sensor states none, the fit's residuals are
@@ -813,10 +817,10 @@ def fit_model(record, scene, model, vary, *, t_begin=None, data=None, **options)
     opts = dict(options)
     found = opts.pop("found", None)
     if found is not None or model.normal is None:
-        return _fit_model(record, scene, model, vary, t_begin, opts, data, found)
+        return _fit_model(record, scene, model, vary, t_begin, opts, data, found, lean)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        fit = _fit_model(record, scene, model, vary, t_begin, opts, data)
+        fit = _fit_model(record, scene, model, vary, t_begin, opts, data, lean=lean)
     want = _screened(fit, opts)
     findings = dynamics.screen(fit.problem, fit.theta, fit.data, model, **want)
     out = _bounded(_with_dynamics(fit, findings, record, scene, model, vary, t_begin, opts), want)
@@ -971,10 +975,12 @@ def _aic_on(fit, alt, record, scene, model, opts) -> float:
     return float(chi2[0]) + 2 * (fit.nvarys + data.n_nuisance)
 
 
-def _fit_model(record, scene, model, vary, t_begin, opts, data=None, found=None) -> ContactFit:
+def _fit_model(
+    record, scene, model, vary, t_begin, opts, data=None, found=None, lean=False
+) -> ContactFit:
     """One fit of ``model`` with the options of :func:`fit_contact` (on ``data``, the record
     prepared with them, where given); ``found`` maps the sensor's parameters the screen
-    found to (start value, source): fitted freely."""
+    found to (start value, source): fitted freely; ``lean`` as :func:`fit_model`'s."""
     opts = dict(opts)
     given = {k: opts.pop(k) for k in _PREPARE if k in opts}
     n_boot = int(opts.pop("n_boot", 200))
@@ -1048,7 +1054,7 @@ def _fit_model(record, scene, model, vary, t_begin, opts, data=None, found=None)
                 warnings.simplefilter("ignore", PipelineWarning)
             kw = run_fit(
                 model, [data], design, init, vary, list(notes), n_boot=n_boot if last else 0,
-                seed=seed, priors=priors,
+                seed=seed, priors=priors, lean=lean and last,
             )  # fmt: skip
         if k < n_pass - 1:  # digitised: weigh each click by its effective variance
             data, note = effective_variance(data, model, design, kw, time_error)
@@ -1288,7 +1294,8 @@ def _diagnosed(fit, record, scene, vary, options, t_begin, data) -> ContactFit:
     """``fit`` with its model spread and verdict (pipeline.fit.verdict): the other laws'
     fits, and the other filter orders' where the filter shapes the pulse (or the fit is
     poor). Every one of them fits the record as prepared for ``fit`` (``data``) from a
-    start at ``fit``'s optimum (:func:`_warm_start`)."""
+    start at ``fit``'s optimum (:func:`_warm_start`); the tables' fits, with the inputs
+    taken as exact and read for their AIC and values alone, are lean (:func:`fit_model`)."""
     quiet = {k: v for k, v in options.items() if k not in ("n_boot", "seed", *_PREPARE)}
     m = fit.model
     spec = data.sensor
@@ -1298,7 +1305,7 @@ def _diagnosed(fit, record, scene, vary, options, t_begin, data) -> ContactFit:
         held = {k: fit.values[k] for k in SHIFT_PARAMS if k in fit.vary}
         quiet["start"] = {**(quiet.get("start") or {}), **held}
 
-    def refit(model, start_from=fit, order=None, warm=None, **extra):
+    def refit(model, start_from=fit, order=None, warm=None, lean=False, **extra):
         alt_vary = tuple("e" if v == "alpha" and model.normal != m.normal else v for v in vary)
         warm = _warm_start(start_from, model, alt_vary) if warm is None else warm
         seen = data
@@ -1310,23 +1317,26 @@ def _diagnosed(fit, record, scene, vary, options, t_begin, data) -> ContactFit:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", PipelineWarning)
             try:
-                return fit_model(record, scene, model, alt_vary, n_boot=0, data=seen, **opts)
+                return fit_model(
+                    record, scene, model, alt_vary, n_boot=0, data=seen, lean=lean, **opts
+                )
             except InputError:
                 return None
 
     laws = alternative_laws(m.normal)
     orders = alternative_orders(fit)
-    own = refit(m, warm=_stated_start(fit, vary), systematics={}) if laws or orders else None
+    as_exact = {"lean": True, "systematics": {}}  # the tables' fits (model_spread)
+    own = refit(m, warm=_stated_start(fit, vary), **as_exact) if laws or orders else None
     exact = {m.normal: own} if laws else {}
     for law in laws:
         other = ForwardModel(law, m.tangential, m.history, m.n_steps)
-        exact[law] = refit(other, own or fit, systematics={})
+        exact[law] = refit(other, own or fit, **as_exact)
     exact = {k: f for k, f in exact.items() if f is not None}
     spread, table = model_spread(fit, exact) if m.normal in exact else ({}, {})
     # the filter orders, where the filter shapes the pulse: their spread adds to the laws'
     by_order = {spec.filter_order: own} if orders else {}
     for k in orders:
-        by_order[k] = refit(m, own or fit, order=k, systematics={})
+        by_order[k] = refit(m, own or fit, order=k, **as_exact)
     by_order = {k: f for k, f in by_order.items() if f is not None}
     order_table = {}
     if spec.filter_order in by_order:

@@ -18,6 +18,12 @@
    channel's residual signs gives z < −2.326 (α = 0.01, as :mod:`pipeline.smooth`), or when
    the minimiser did not converge; a poor fit is flagged and a
    :class:`~pipeline.errors.PoorFitWarning` names the reason.
+
+A fit read for its χ² and values alone (``lean``: the verdict's fits of the other laws and
+filter orders, :func:`pipeline.fit_contact`) skips what nothing reads of it — the misfit
+test, the standard errors and correlations of lmfit's parameters, and the covariance
+where no parameter may be one-sided (the values of a one-sided one come from its
+interval) — and keeps every number it has as a full fit has it.
 """
 
 from __future__ import annotations
@@ -123,11 +129,15 @@ def t0_bounds(t_first, t_start, duration) -> tuple:
     return (t_first, t_start + 0.5 * duration)
 
 
-def run_fit(model, datas, design, init, vary, notes, *, n_boot=0, seed=0, priors=None) -> dict:
+def run_fit(
+    model, datas, design, init, vary, notes, *, n_boot=0, seed=0, priors=None, lean=False
+) -> dict:
     """Drive lmfit on a Problem, then the uncertainty and identifiability (shared).
 
     ``priors`` maps a parameter name to (stated value, standard uncertainty): a Gaussian
-    constraint, one residual row (:mod:`pipeline.fit.engine`)."""
+    constraint, one residual row (:mod:`pipeline.fit.engine`). ``lean``: a fit read for its
+    χ² and values alone (module notes): ``misfit`` None, lmfit's parameters without
+    ``stderr``, and ``cov`` (with its parts) None where no parameter may be one-sided."""
     import lmfit
 
     names = design.names
@@ -184,10 +194,12 @@ def run_fit(model, datas, design, init, vary, notes, *, n_boot=0, seed=0, priors
     k_free = int(sum(varied)) - len(priors)  # a constrained parameter brings its own row
     nuisance = sum(d.n_nuisance for d in datas)
     redchi = (chi2 - chi2_prior) / max(n - k_free - nuisance, 1)
-    parts = covariance_parts(J, n, redchi)
-    problem.keep_gain(theta, parts.gain)  # the dynamics' bounds take it up
-    cov = parts.total
     vidx = np.flatnonzero(varied)
+    parts = cov = None
+    if not lean or n_boot > 0 or _candidates(theta, names, vidx, priors):
+        parts = covariance_parts(J, n, redchi)
+        problem.keep_gain(theta, parts.gain)  # the dynamics' bounds take it up
+        cov = parts.total
     # ---- one-sided parameters (μ, kt_scale, a free bandwidth): χ² flat up to 30× the value?
     profiles, lower_only, upper_only = _one_sided(
         problem, theta, chi2, redchi, lower, upper, names, vidx, set(priors), cov
@@ -204,7 +216,7 @@ def run_fit(model, datas, design, init, vary, notes, *, n_boot=0, seed=0, priors
             gain=parts.gain,
         )  # fmt: skip
     # ---- parameters with their uncertainty, for lmfit's report
-    for j, i in enumerate(vidx):
+    for j, i in enumerate(vidx if not lean else ()):
         par = res.params[names[i]]
         par.stderr = math.sqrt(cov[j, j]) if np.isfinite(cov[j, j]) else None
         par.correl = {}
@@ -212,8 +224,8 @@ def run_fit(model, datas, design, init, vary, notes, *, n_boot=0, seed=0, priors
             if ii != i and np.isfinite(cov[j, jj]) and par.stderr and cov[jj, jj] > 0:
                 par.correl[names[ii]] = cov[j, jj] / math.sqrt(cov[j, j] * cov[jj, jj])
     # ---- does the model describe the data? (one test for every fit: misfit())
-    check = misfit(r[:n], datas, k_free)
-    poor_reasons = list(check.reasons)
+    check = None if lean else misfit(r[:n], datas, k_free)
+    poor_reasons = [] if lean else list(check.reasons)
     if not res.success:
         poor_reasons.append(f"the minimiser did not converge: {res.message}")
     poor = bool(poor_reasons)
@@ -230,8 +242,8 @@ def run_fit(model, datas, design, init, vary, notes, *, n_boot=0, seed=0, priors
         theta=theta,
         varied=tuple(varied),
         cov=cov,
-        cov_stat=parts.stat,
-        sys_weights=parts.prior_weights,
+        cov_stat=None if parts is None else parts.stat,
+        sys_weights=None if parts is None else parts.prior_weights,
         priors=dict(priors),
         chi2=chi2,
         chi2_prior=chi2_prior,
@@ -536,18 +548,13 @@ def _one_sided(problem, theta, chi2, redchi, lower, upper, names, vidx, constrai
     (profiles, lower_only, upper_only) — {name: (grid, Δχ²)} and the two name lists; a
     profiled parameter in neither list has a two-sided profile interval
     """
-    one_sided = ("mu", "kt_scale", "bandwidth")
+    cand = _candidates(theta, names, vidx, constrained)
+    if not cand:
+        return {}, [], []
     scale = max(1.0, redchi)
     limit = chi2_quantile(0.99) * scale
     clear = _clearly_bounded(problem, theta, names, vidx, cov, limit)
-    cand = [
-        i
-        for i in vidx
-        if base_name(names[i]) in one_sided
-        and theta[i] > 0
-        and names[i] not in constrained
-        and names[i] not in clear
-    ]
+    cand = [i for i in cand if names[i] not in clear]
     if not cand:
         return {}, [], []
     d_top = _pushed(problem, theta, chi2, cand, theta[cand] * _PUSH, lower, upper, limit)
@@ -573,6 +580,20 @@ def _one_sided(problem, theta, chi2, redchi, lower, upper, names, vidx, constrai
         profiles[names[i]] = (grid, np.append(dd, max(d, 0.0)))
         lower_only.append(names[i])
     return profiles, lower_only, upper_only
+
+
+#: The parameters the data may bound on one side only (:func:`_one_sided`).
+_ONE_SIDED = ("mu", "kt_scale", "bandwidth")
+
+
+def _candidates(theta, names, vidx, constrained) -> list:
+    """The varied parameters (indices into θ, in order) :func:`_one_sided` looks at: μ,
+    ``kt_scale`` and a bandwidth above zero without a prior."""
+    return [
+        i
+        for i in vidx
+        if base_name(names[i]) in _ONE_SIDED and theta[i] > 0 and names[i] not in constrained
+    ]
 
 
 def _pushed(problem, theta, chi2, idx, targets, lower, upper, limit) -> np.ndarray:
