@@ -222,6 +222,11 @@ class FitResult:
         """{name: value} [SI]; a parameter bounded only from below (above) gives its 95 %
         lower (upper) bound (see :attr:`identifiable`), the optimiser's value is in
         :attr:`params`."""
+        return self._parameter_values()
+
+    def _parameter_values(self) -> dict:
+        """:attr:`values` of the model's parameters alone, without what a subclass adds
+        that they imply (:class:`pipeline.fit.ContactFit`'s yield point of Thornton's law)."""
         out = {n: float(v) for n, v in zip(self.names, self.theta, strict=True)}
         if self.one_sided:
             ci = self.ci(0.95)

@@ -184,7 +184,9 @@ def model_spread(fit, fits: dict, own=None) -> tuple[dict, dict]:
     spend them on its misfit."""
     weights = akaike_weights({k: f.aic for k, f in fits.items()})
     best = min(f.aic for f in fits.values())
-    values = {k: f.values for k, f in fits.items()}  # each fit's once (a property)
+    # each fit's once (a property), its parameters' alone: neither the spread nor the
+    # table reads what they imply (Thornton's yield point)
+    values = {k: f._parameter_values() for k, f in fits.items()}
     own = values[fit.normal if own is None else own]
     one_sided = fit.one_sided
     spread = {}
