@@ -623,6 +623,44 @@ def test_alpha_parametrisation_is_the_same_fit(noisy):
     assert fa.chi2 == pytest.approx(fe.chi2, rel=1e-6)
 
 
+@pytest.mark.parametrize(
+    "angle, mu, tangential", [(0.0, 0.131, "none"), (5.0, 0.4, "mindlin")]
+)  # fmt: skip
+def test_a_lean_fit_is_the_full_fit_without_its_checks(angle, mu, tangential):
+    """The verdict's table fits are lean (fit_model(lean=True)): read for their AIC and
+    values alone, they skip the misfit test and lmfit's standard errors, and the
+    covariance where no parameter may be one-sided — the same fit otherwise: its θ, χ²,
+    AIC and values as the full fit's, μ's one-sided lower bound among them where the
+    contact sticks (5°, μ = 0.4: μ bounded only from below, its value from its profile,
+    which needs the covariance). Head-on, frictionless, nothing is one-sided: no
+    covariance at all."""
+    from pipeline.fit.contact import DEFAULT_VARY, fit_model
+    from pipeline.fit.forward import ForwardModel
+
+    sc = gr(angle_deg=angle, mu=mu)
+    rec = to_sensor(impact(sc, samples=2001, tangential=tangential), seed=5)
+    model = ForwardModel("hunt_crossley", tangential, "total", 128)
+    vary = DEFAULT_VARY("hunt_crossley", tangential)
+    fits = {
+        lean: quiet(fit_model, rec, sc, model, vary, n_boot=0, systematics={}, lean=lean)
+        for lean in (False, True)
+    }
+    full, lean = fits[False], fits[True]
+    assert full.misfit is not None and lean.misfit is None
+    assert all(full.params[n].stderr is not None for n in vary)
+    assert all(lean.params[n].stderr is None for n in vary)
+    np.testing.assert_allclose(lean.theta, full.theta, rtol=1e-13, atol=0.0)
+    assert lean.aic == pytest.approx(full.aic, rel=1e-13, abs=0.0)
+    assert lean.one_sided == full.one_sided
+    for name, value in full.values.items():
+        assert lean.values[name] == pytest.approx(value, rel=1e-13, abs=0.0)
+    if tangential == "none":
+        assert full.cov is not None and lean.cov is None
+    else:
+        assert full.one_sided == ("mu",) and lean.values["mu"] < mu
+        np.testing.assert_allclose(lean.cov, full.cov, rtol=1e-13, atol=0.0)
+
+
 def test_the_verdict_s_law_table_and_spread_are_independent_refits():
     """The verdict's fits start warm (the law's own refit from the fit's optimum with its
     systematics stepped back linearly, the other laws from the fitted pulse's shape): each
