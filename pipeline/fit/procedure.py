@@ -19,8 +19,8 @@
    the minimiser did not converge; a poor fit is flagged and a
    :class:`~pipeline.errors.PoorFitWarning` names the reason.
 
-A fit read for its χ² and values alone (``lean``: the verdict's fits of the other laws and
-filter orders, :func:`pipeline.fit_contact`) skips what nothing reads of it — the misfit
+A fit read for its χ² and values alone (``lean``: the fits of the verdict's tables of laws
+and filter orders, :func:`pipeline.fit_contact`) skips what nothing reads of it — the misfit
 test, the standard errors and correlations of lmfit's parameters, and the covariance
 where no parameter may be one-sided (the values of a one-sided one come from its
 interval) — and keeps every number it has as a full fit has it.
@@ -215,8 +215,8 @@ def run_fit(
             problem, theta, r, J, n_boot=n_boot, seed=seed, lower=lower, upper=upper,
             gain=parts.gain,
         )  # fmt: skip
-    # ---- parameters with their uncertainty, for lmfit's report
-    for j, i in enumerate(vidx if not lean else ()):
+    # ---- parameters with their uncertainty, for lmfit's report (a lean fit has none)
+    for j, i in enumerate(() if lean else vidx):
         par = res.params[names[i]]
         par.stderr = math.sqrt(cov[j, j]) if np.isfinite(cov[j, j]) else None
         par.correl = {}
