@@ -137,9 +137,11 @@ def times(record: xr.Dataset) -> np.ndarray:
     return t
 
 
-def channel(record: xr.Dataset, name: str) -> tuple[np.ndarray, np.ndarray]:
-    """The instants [s] and values [N] at which channel ``name`` was actually measured."""
-    t = times(record)
+def channel(record: xr.Dataset, name: str, t=None) -> tuple[np.ndarray, np.ndarray]:
+    """The instants [s] and values [N] at which channel ``name`` was actually measured
+    (``t``: the record's instants, :func:`times`, where read already)."""
+    if t is None:
+        t = times(record)
     f = record.variables[name].values
     mask_name = f"{name}_measured"
     if mask_name in record:

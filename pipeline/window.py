@@ -163,16 +163,22 @@ def _median(a, scratch=False):
     # as numpy: the middle one or two order statistics, and the largest (a NaN sorts last)
     p = a if scratch else a.copy()
     p.partition([h, n - 1] if n % 2 else [h - 1, h, n - 1])
-    if np.isnan(p[-1]):
+    if p[-1] != p[-1]:  # NaN
         return p[-1]
     return p[h] if n % 2 else (p[h - 1] + p[h]) / 2
 
 
-def _row_medians(a):
-    """:func:`_median` of each row of the 2-D array ``a`` (rows of at least one value)."""
+def _row_medians(a, scratch=False):
+    """:func:`_median` of each row of the 2-D array ``a`` (rows of at least one value);
+    ``scratch``: ``a`` is a temporary array of floats, reordered in place."""
     n = a.shape[1]
     h = n // 2
-    p = np.partition(a, [h, n - 1] if n % 2 else [h - 1, h, n - 1], axis=1)
+    kth = [h, n - 1] if n % 2 else [h - 1, h, n - 1]
+    if scratch:
+        a.partition(kth, axis=1)
+        p = a
+    else:
+        p = np.partition(a, kth, axis=1)
     mid = p[:, h] if n % 2 else (p[:, h - 1] + p[:, h]) / 2
     nan = np.isnan(p[:, -1])
     return np.where(nan, p[:, -1], mid) if nan.any() else mid
@@ -180,8 +186,13 @@ def _row_medians(a):
 
 def mad_sigma(r) -> float:
     """Robust noise level: 1.4826·median|r − median r| [same unit as ``r``]."""
-    p = np.array(r, dtype=float).ravel()  # a copy, reordered: |p − median| holds the same
-    median = _median(p, scratch=True)  # values as |r − median|, without two temporaries
+    return _mad_sigma(np.array(r, dtype=float).ravel())  # a copy, reordered
+
+
+def _mad_sigma(p) -> float:
+    """:func:`mad_sigma` of the 1-D array of floats ``p``, a temporary reordered in place
+    (|p − median| holds the same values as |r − median|, without two temporaries)."""
+    median = _median(p, scratch=True)
     np.abs(np.subtract(p, median, out=p), out=p)
     return float(_MAD_TO_SIGMA * _median(p, scratch=True))
 
@@ -241,6 +252,7 @@ class Spike:
 #: evaluated at offset 0 (its variance under white noise: σ²·Σw² = σ²/2).
 _SPIKE_OFFSETS = np.array([-3, -2, -1, 1, 2, 3])
 _SPIKE_WEIGHTS = np.array([-2.0, 3.0, 6.0, 6.0, 3.0, -2.0]) / 14.0
+_SPIKE_TERMS = tuple(zip(_SPIKE_OFFSETS.tolist(), _SPIKE_WEIGHTS.tolist(), strict=True))
 #: A spike stands off its neighbours' quadratic by more than this many times the RMS
 #: misfit of that quadratic to the neighbours (on 3 degrees of freedom): smooth curves —
 #: a pulse, a decaying ring — stay below ~2 where the noise does not hide them, and a
@@ -283,8 +295,9 @@ def _spike_residuals(Y):
     (the misfit, which only the few candidates need, left out)."""
     n = Y.shape[1]
     d = Y[:, 3:-3].copy()
-    for offset, weight in zip(_SPIKE_OFFSETS.tolist(), _SPIKE_WEIGHTS.tolist(), strict=True):
-        d -= weight * Y[:, 3 + offset : n - 3 + offset]
+    term = np.empty_like(d)
+    for offset, weight in _SPIKE_TERMS:
+        d -= np.multiply(Y[:, 3 + offset : n - 3 + offset], weight, out=term)
     return d
 
 
@@ -357,35 +370,45 @@ def _find_spikes(Y, kk, sigma=None):
     residuals and their noise are measured for all the rows at once."""
     D = _spike_residuals(Y)  # at samples 3 … n − 4
     if sigma is None:
-        sigmas = _MAD_TO_SIGMA * _row_medians(np.abs(D - _row_medians(D)[:, None]))
+        dev = D - _row_medians(D)[:, None]
+        sigmas = _MAD_TO_SIGMA * _row_medians(np.abs(dev, out=dev), scratch=True)
         sigmas = sigmas / math.sqrt(1.5)
     else:
         sigmas = np.full(Y.shape[0], float(sigma))
-    spans = np.ptp(Y, axis=1)
-    # the smallest step between distinct neighbours (∞ where all are equal)
-    steps = np.abs(np.diff(Y, axis=1))
-    smallest = np.min(steps, axis=1)
-    if not np.all(smallest > 0):  # equal neighbours (or a NaN) somewhere: leave them out
-        smallest = np.min(np.where(steps > 0, steps, np.inf), axis=1)
-    tops = np.max(np.abs(D), axis=1)
+    spans = Y.max(axis=1) - Y.min(axis=1)  # numpy.ptp
+    tops = np.abs(D).max(axis=1)
     return [
-        _spikes_of(y, d, float(s), float(span), float(step), kk, float(top))
-        for y, d, s, span, step, top in zip(Y, D, sigmas, spans, smallest, tops, strict=True)
+        _spikes_of(y, d, float(s), float(span), None, kk, float(top))
+        for y, d, s, span, top in zip(Y, D, sigmas.tolist(), spans, tops, strict=True)
     ]
+
+
+def _smallest_step(y) -> float:
+    """The smallest step between distinct neighbours of ``y`` (∞ where all are equal)."""
+    steps = np.abs(np.diff(y))
+    smallest = steps.min()
+    if not smallest > 0:  # equal neighbours (or a NaN) somewhere: leave them out
+        smallest = np.min(np.where(steps > 0, steps, np.inf))
+    return float(smallest)
 
 
 def _spikes_of(y, d, sigma, span, step, kk, top=math.nan):
     """The spikes of one channel ``y`` (repaired in place) from its residuals ``d``, the noise
-    σ [N] they show, its range, its smallest step and its largest |d| [N] (where known: no
-    sample is a candidate where that is within the threshold) (:func:`_find_spikes`)."""
+    σ [N] they show, its range, its smallest step (None: worked out here where needed) and
+    its largest |d| [N] (where known: no sample is a candidate where that is within the
+    threshold) (:func:`_find_spikes`)."""
     if not sigma > 0:
         sigma = float(np.std(d)) / math.sqrt(1.5)
     sigma = max(sigma, _RESOLUTION_FLOOR * span)
     # the converter's rounding noise q/√12 where it is larger: q divides every gap between
     # distinct values, so no step between neighbours below √12·σ leaves the grid's search
-    # (a sort of the record) anything to find
-    if math.isfinite(step) and step > math.sqrt(12) * sigma:
-        sigma = max(sigma, adc_step(y) / math.sqrt(12))
+    # (a sort of the record) anything to find. It can only raise σ: where no sample stands
+    # out at this σ (below), none stands out at the larger one, and the step is not needed
+    if not (kk > 0 and sigma > 0 and top <= kk * (sigma * math.sqrt(1.5))):
+        if step is None:
+            step = _smallest_step(y)
+        if math.isfinite(step) and step > math.sqrt(12) * sigma:
+            sigma = max(sigma, adc_step(y) / math.sqrt(12))
     if not sigma > 0:
         return np.zeros(0, int), np.zeros(0)
     n = y.size
@@ -594,11 +617,15 @@ def apply_window(record: xr.Dataset, window: ContactWindow) -> xr.Dataset:
     return out
 
 
+#: Four ulps of 1 [-].
+_EPS4 = 4 * float(np.finfo(float).eps)
+
+
 def _inside(t, t_start, t_end):
     """The indices of the instants ``t`` [s] in [t_start, t_end] [s]: a slice where they are
     one run (sorted times), else an array."""
     # a tolerance of a few ulp keeps samples that sit exactly on the window's ends
-    tol = 4 * np.finfo(float).eps * max(abs(t_start), abs(t_end), 1e-300)
+    tol = _EPS4 * max(abs(t_start), abs(t_end), 1e-300)
     idx = np.flatnonzero((t >= t_start - tol) & (t <= t_end + tol))
     if idx.size and idx[-1] - idx[0] + 1 == idx.size:
         return slice(int(idx[0]), int(idx[-1]) + 1)
@@ -822,16 +849,25 @@ def _warn_later_pulses(win, src):
         _warn_later(src, [(a, p) for a, _, p in win.other_pulses], win.peak)
 
 
-def _line(tt, y, t_ref, both_sides):
+def _centred(tt):
+    """(t̄, tt − t̄, Σ(tt − t̄)²) of the instants ``tt`` [s]: the part of a least-squares
+    line through samples at them that is the instants' alone (:func:`_line`)."""
+    t_mean = np.add.reduce(tt) / tt.size
+    x = tt - t_mean
+    return t_mean, x, float(x @ x)
+
+
+def _line(tt, y, t_ref, both_sides, centred=None):
     """The least-squares line through the samples ``y`` at ``t_ref`` + ``tt`` [s] (both sides
     of the contact), else their mean (one side: a slope would extrapolate across the
-    pulse). The means as numpy's (the sum over the count), without its wrapper."""
+    pulse). The means as numpy's (the sum over the count), without its wrapper;
+    ``centred``: :func:`_centred` of ``tt`` where known (``tt`` then unused)."""
     if not both_sides:
         return Baseline(float(np.add.reduce(y) / y.size), 0.0, float(t_ref))
     # the least-squares line in closed form, about the samples' mean instant
-    t_mean, y_mean = np.add.reduce(tt) / tt.size, np.add.reduce(y) / y.size
-    x = tt - t_mean
-    s = float(x @ (y - y_mean)) / float(x @ x)
+    t_mean, x, xx = _centred(tt) if centred is None else centred
+    y_mean = np.add.reduce(y) / y.size
+    s = float(x @ (y - y_mean)) / xx
     return Baseline(float(y_mean - s * t_mean), s, float(t_ref))
 
 
@@ -876,6 +912,7 @@ class _Course:
         self.t, self.t_ref, self.tau = t, float(t_ref), float(tau)
         self.tt = t - self.t_ref  # the instants from t_ref [s], for every line
         self.basis = None  # the images of 1 and t − t_ref, (2, n)
+        self._centred = (None, None)  # the last fit's samples and _centred of their instants
         if math.isfinite(self.tau):
             self.basis = _undo_discharge(np.stack([np.ones_like(t), t - t_ref]), t, self.tau)
 
@@ -891,10 +928,24 @@ class _Course:
             return base(self.t)
         return base.offset * self.basis[0] + base.slope * self.basis[1]
 
+    def residual(self, y, base, out=None):
+        """``y`` less the baseline ``base`` in the searched signal [N] (into ``out``)."""
+        if self.basis is None and base.t_ref == self.t_ref and self.tt.dtype == np.float64:
+            # the same numbers as y − self(base), in place
+            out = np.multiply(self.tt, base.slope, out=out)
+            out += base.offset
+            return np.subtract(y, out, out=out)
+        return np.subtract(y, self(base), out=out)
+
     def fit(self, y, mask, both_sides):
-        """The baseline through the searched samples ``y`` where ``mask`` (:func:`_line`)."""
+        """The baseline through the searched samples ``y`` where ``mask`` (:func:`_line`; the
+        instants' part kept for further fits on the same mask, which is not changed)."""
         if self.basis is None:
-            return _line(self.tt[mask], y[mask], self.t_ref, both_sides)
+            if not both_sides:
+                return _line(None, y[mask], self.t_ref, False)
+            if self._centred[0] is not mask:
+                self._centred = (mask, _centred(self.tt[mask]))
+            return _line(None, y[mask], self.t_ref, True, self._centred[1])
         A = self.basis[: 2 if both_sides else 1, mask].T
         coef = np.linalg.lstsq(A, y[mask], rcond=None)[0]
         return Baseline(float(coef[0]), float(coef[1]) if both_sides else 0.0, self.t_ref)
@@ -935,11 +986,13 @@ def _repair_spikes(record, t, false_alarm):
     """(the record with every channel's spikes repaired, the spikes) — the record itself
     where there are none (:func:`find_spikes`; uniformly sampled channels only; ``t``: the
     record's instants [s])."""
+    if t.size < 20:
+        return record, ()
     dt = np.diff(t)
-    if t.size < 20 or np.ptp(dt) > 1e-6 * np.mean(dt):
+    if dt.max() - dt.min() > 1e-6 * (np.add.reduce(dt) / dt.size):  # numpy's ptp and mean
         return record, ()
     found, new = [], {}
-    chans = {c: yc for c in _channels(record) if (yc := channel(record, c)[1]).size == t.size}
+    chans = {c: yc for c in _channels(record) if (yc := channel(record, c, t)[1]).size == t.size}
     if not chans:
         return record, ()
     Y = np.array(list(chans.values()), dtype=float)
@@ -979,12 +1032,12 @@ def _sensor(record, *, k, false_alarm, guard, max_iter, discharge):
     course = _Course(t, t_ref, discharge)
     y = course.signal(fn)
     base, outside = _initial_baseline(t, y, t_ref, course)
-    span = float(np.ptp(y))
+    span = float(y.max() - y.min())  # numpy.ptp
     found, line_both = None, None  # line_both: the line was fitted on both sides
     sigma = np.nan
     for _ in range(max_iter):
-        r, r_base, r_outside = y - course(base), base, outside
-        sigma = _sigma(r[outside], fn, span)
+        r, r_base, r_outside = course.residual(y, base), base, outside
+        sigma = _sigma(r, outside, fn, span)
         runs = _runs(r, sigma, kk)
         new = _choose(runs, r, sigma, kk, src)
         if new is None:
@@ -1015,17 +1068,18 @@ def _sensor(record, *, k, false_alarm, guard, max_iter, discharge):
             )
         both = left >= 4 and right >= 4
         converged = found is not None and found.key == new.key
-        converged = converged and np.array_equal(new_outside, outside)
+        converged = converged and bool((new_outside == outside).all())
         if not (converged and both == line_both):  # else the same samples give the same line
             base, line_both = course.fit(y, new_outside, both), both
-        found, outside = new, new_outside
+            outside = new_outside  # (else the same samples: the mask the line was fitted on)
+        found = new
         if converged:
             break
     # the last detection's residuals and noise hold unless the line or its samples changed
     if base != r_base:
-        r = y - course(base)
+        r = course.residual(y, base)
     if found is not None and (base != r_base or not np.array_equal(outside, r_outside)):
-        sigma = _sigma(r[outside], fn, span)
+        sigma = _sigma(r, outside, fn, span)
     fn_spikes = [sp for sp in spikes if sp.channel == "Fn"]
     if found is None and fn_spikes:
         worst = max(fn_spikes, key=lambda sp: abs(sp.value - base(sp.t)))
@@ -1057,11 +1111,12 @@ def _sensor(record, *, k, false_alarm, guard, max_iter, discharge):
         return abs(value) > 2 * kk * sigma and not t0 - margin <= t[i] <= t1 + margin
 
     # the repaired single samples of Fn away from the pulse are the trigger glitches of old
-    r_raw = course.signal(raw_fn) - course(base) if fn_spikes else r
+    r_raw = course.residual(course.signal(raw_fn), base) if fn_spikes else r
     lone = [sp for sp in fn_spikes if glitch(sp.index, r_raw[sp.index])]
     runs = [g for g in found.glitches if glitch(g.peak, r[g.peak])]
     runs += [_Run(sp.index, sp.index, int(np.sign(r_raw[sp.index])), sp.index, 1) for sp in lone]
-    found = dataclasses.replace(found, glitches=tuple(sorted(runs, key=lambda g: g.a)))
+    if runs or found.glitches:
+        found = dataclasses.replace(found, glitches=tuple(sorted(runs, key=lambda g: g.a)))
     _report_events(found, t, r_raw, src)
     _report_spikes([sp for sp in spikes if sp not in lone], src)
     left, right = _sides(outside, t, t0, t1)
@@ -1073,15 +1128,15 @@ def _sensor(record, *, k, false_alarm, guard, max_iter, discharge):
             yc = record.variables[c].values
             xc = course.signal(yc)
             baseline[c] = bc = course.fit(xc, outside, left >= 4 and right >= 4)
-            rc = xc - course(bc)
-            noise[c] = _sigma(rc[outside], yc)
+            rc = course.residual(xc, bc)
+            noise[c] = _sigma(rc, outside, yc)
             if restored:
                 restored[c] = rc + bc(t)
     if restored:
         record = record.copy()
         for c, xc in restored.items():
             record[c] = (record[c].dims, xc, record[c].attrs)
-    peak = float(np.max(r[found.a : found.b + 1]))
+    peak = float(r[found.a : found.b + 1].max())
     return _finish(
         record,
         t,
@@ -1152,17 +1207,18 @@ class _Found:
 _RESOLUTION_FLOOR = 1e-6
 
 
-def _sigma(r, y, span=None) -> float:
-    """Noise level of the baseline residuals ``r`` of a channel whose samples are ``y``: the
-    MAD estimate; the standard deviation where the MAD is 0 (quantised, nearly noise-free);
-    where both are 0 (a noise-free baseline on one ADC level) the converter's rounding
-    noise q/√12, q the grid step of the whole channel (:func:`pipeline.record.adc_step`);
-    never below :data:`_RESOLUTION_FLOOR` of the channel's range (``span`` [N], where
-    known)."""
-    sigma = mad_sigma(r) or float(np.std(r))
+def _sigma(r, mask, y, span=None) -> float:
+    """Noise level of the baseline residuals ``r[mask]`` of a channel whose samples are
+    ``y``: the MAD estimate; the standard deviation where the MAD is 0 (quantised, nearly
+    noise-free); where both are 0 (a noise-free baseline on one ADC level) the converter's
+    rounding noise q/√12, q the grid step of the whole channel
+    (:func:`pipeline.record.adc_step`); never below :data:`_RESOLUTION_FLOOR` of the
+    channel's range (``span`` [N], where known)."""
+    # (the selection is a copy, to reorder)
+    sigma = _mad_sigma(np.asarray(r[mask], dtype=float)) or float(np.std(r[mask]))
     if sigma == 0.0:
         sigma = adc_step(y) / math.sqrt(12.0)
-    return max(sigma, _RESOLUTION_FLOOR * (float(np.ptp(y)) if span is None else span))
+    return max(sigma, _RESOLUTION_FLOOR * (float(y.max() - y.min()) if span is None else span))
 
 
 def _end_samples(n: int) -> int:
@@ -1186,8 +1242,8 @@ def _initial_baseline(t, y, t_ref, course):
     """
     n = t.size
     m = _end_samples(n)
-    ta, ya = _median(t[:m]), _median(y[:m])
-    tb, yb = _median(t[-m:]), _median(y[-m:])
+    ends = np.array([t[:m], y[:m], t[-m:], y[-m:]], dtype=float)
+    ta, ya, tb, yb = _row_medians(ends, scratch=True)
     if course.basis is None:
         slope = (yb - ya) / (tb - ta)
         candidates = [  # through both ends, the first, the last
@@ -1203,8 +1259,10 @@ def _initial_baseline(t, y, t_ref, course):
             Baseline(float(ya / ua), 0.0, float(t_ref)),
             Baseline(float(yb / ub), 0.0, float(t_ref)),
         ]
-    spread = [float(_median(np.abs(y - course(base)), scratch=True)) for base in candidates]
-    best = int(np.argmin(spread))
+    dev = np.empty((3, n))
+    for row, base in zip(dev, candidates, strict=True):
+        course.residual(y, base, out=row)
+    best = int(_row_medians(np.abs(dev, out=dev), scratch=True).argmin())
     # the first noise estimate uses the chosen end samples: a pulse that fills most of a
     # short record would otherwise inflate the MAD past the pulse itself
     rests = np.zeros(n, dtype=bool)
@@ -1227,20 +1285,21 @@ def _runs(r, sigma, kk) -> list[_Run]:
         return []
     runs = []
     above = np.zeros(r.size + 2, dtype=bool)  # a sample below σ on either side
+    level = kk * sigma
     for sign in (1, -1):
-        s = r if sign > 0 else -r
-        hot = s > kk * sigma
+        hot = r > level if sign > 0 else r < -level  # sign·r > k·σ
         if not hot.any():
             continue
+        s = r if sign > 0 else -r
         # widen each core sample to its run above σ: runs are the maximal stretches above σ
-        above[1:-1] = s > sigma
+        np.greater(s, sigma, out=above[1:-1])
         edges = np.flatnonzero(above[1:] != above[:-1])
         starts, stops = edges[::2], edges[1::2] - 1
-        n_hot = np.cumsum(hot)  # core samples up to each sample
+        n_hot = hot.cumsum()  # core samples up to each sample
         cores = n_hot[stops] - n_hot[starts] + hot[starts]  # core samples of each stretch
         for j in np.flatnonzero(cores).tolist():
             a, b = int(starts[j]), int(stops[j])
-            pk = a + int(np.argmax(s[a : b + 1]))
+            pk = a + int(s[a : b + 1].argmax())
             runs.append(_Run(a, b, sign, pk, int(cores[j])))
     return sorted(runs, key=lambda run: run.a)
 
