@@ -150,22 +150,35 @@ _NORMAL = NormalDist()
 _MAD_TO_SIGMA = 1.0 / _NORMAL.inv_cdf(0.75)
 
 
+#: Samples up to which a median sorts them rather than selects: a sort (vectorised) beats
+#: the selection on a few hundred, the selection's linear time the sort's n log n beyond.
+_SORT_MEDIAN = 256
+
+
 def _median(a, scratch=False):
     """:func:`numpy.median` of all the values of ``a`` (the same value, NaN if any is NaN) by
-    one :func:`numpy.partition`, without its general-axis machinery (a few µs a call; the
-    window takes a score of medians). ``scratch``: ``a`` is a temporary array of floats,
-    reordered in place."""
+    one :func:`numpy.partition` at the middle, without its general-axis machinery (a few µs
+    a call; the window takes a score of medians). ``scratch``: ``a`` is a temporary array of
+    floats, reordered in place."""
     a = np.asarray(a, dtype=float).ravel()
     n = a.size
     if n == 0:
         return np.median(a)  # NaN, with numpy's warning
     h = n // 2
-    # as numpy: the middle one or two order statistics, and the largest (a NaN sorts last)
+    # as numpy: the middle one or two order statistics, and the largest (a NaN sorts last).
+    # One selection at h, the order statistic below it the largest of the lower part: the
+    # same numbers as numpy's selection of all three at once, at a fraction of its time
     p = a if scratch else a.copy()
-    p.partition([h, n - 1] if n % 2 else [h - 1, h, n - 1])
-    if p[-1] != p[-1]:  # NaN
-        return p[-1]
-    return p[h] if n % 2 else (p[h - 1] + p[h]) / 2
+    if n <= _SORT_MEDIAN:
+        p.sort()
+        top, below = p[-1], p[h - 1]
+    else:
+        p.partition(h)
+        top = p[h:].max()
+        below = p[:h].max() if n % 2 == 0 else None
+    if top != top:  # NaN
+        return top
+    return p[h] if n % 2 else (below + p[h]) / 2
 
 
 def _row_medians(a, scratch=False):
@@ -173,15 +186,17 @@ def _row_medians(a, scratch=False):
     ``scratch``: ``a`` is a temporary array of floats, reordered in place."""
     n = a.shape[1]
     h = n // 2
-    kth = [h, n - 1] if n % 2 else [h - 1, h, n - 1]
-    if scratch:
-        a.partition(kth, axis=1)
-        p = a
+    p = a if scratch else a.copy()
+    if n <= _SORT_MEDIAN:
+        p.sort(axis=1)
+        top, below = p[:, -1], p[:, h - 1]
     else:
-        p = np.partition(a, kth, axis=1)
-    mid = p[:, h] if n % 2 else (p[:, h - 1] + p[:, h]) / 2
-    nan = np.isnan(p[:, -1])
-    return np.where(nan, p[:, -1], mid) if nan.any() else mid
+        p.partition(h, axis=1)
+        top = p[:, h:].max(axis=1)
+        below = p[:, :h].max(axis=1) if n % 2 == 0 else None
+    mid = p[:, h] if n % 2 else (below + p[:, h]) / 2
+    nan = np.isnan(top)
+    return np.where(nan, top, mid) if nan.any() else mid
 
 
 def mad_sigma(r) -> float:

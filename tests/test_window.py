@@ -660,6 +660,29 @@ def test_the_runs_above_the_noise_are_those_a_loop_over_the_samples_finds():
         assert got == slow(r, 1.0, 4.0)
 
 
+def test_the_medians_the_window_takes_are_numpys():
+    """The window's medians (one selection at the middle, or a sort of a short row) are
+    numpy.median's to the last bit: odd and even counts either side of the sort's limit,
+    tied values, signed zeros, a NaN (the median is then NaN), one value per row."""
+    from pipeline.window import _median, _row_medians
+
+    rng = np.random.default_rng(11)
+    for n in (1, 2, 3, 8, 99, 255, 256, 257, 258, 1000, 1001):
+        for case in ("normal", "tied", "zeros", "nan"):
+            a = rng.normal(size=(3, n))
+            if case == "tied":
+                a = np.round(2.0 * a) / 2.0
+            elif case == "zeros":
+                a = np.where(rng.random((3, n)) < 0.5, 0.0, -0.0) + np.round(a) * (n > 8)
+            elif case == "nan":
+                a[1, rng.integers(n)] = np.nan
+            want = np.median(a, axis=1)
+            assert np.array_equal(_row_medians(a), want, equal_nan=True), (n, case)
+            for row, m in zip(a, want, strict=True):
+                got = _median(row)
+                assert (np.isnan(got) and np.isnan(m)) or got == m, (n, case)
+
+
 def test_a_window_copied_or_pickled_carries_its_cut_record():
     import copy
     import dataclasses
