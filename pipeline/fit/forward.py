@@ -55,7 +55,7 @@ import numpy as np
 from scipy.signal import lfilter, sosfilt
 
 from ..errors import InputError, SpikeWarning
-from ..record import channel
+from ..record import channel, times
 from ..scene import Scene
 from ..simulate import tangential_history
 from ..smooth import noise_level
@@ -433,12 +433,13 @@ def _repaired(record, win, name, t=None, f=None):
     return t, f
 
 
-def _noise_model(record, win, name, t, f, uniform=None) -> NoiseModel:
+def _noise_model(record, win, name, t, f, uniform=None, part=False) -> NoiseModel:
     """The channel's noise model from its pre-trigger samples (sensor records; white for
     the others, and where the record is not uniformly sampled), less their own line (the
     window's baseline, fitted on both sides, tilts where the zero shifts or the charge
     leaks, and a tilt is no correlation of the noise). ``uniform``: whether the instants
-    ``t`` [s] are uniformly sampled, where known."""
+    ``t`` [s] are uniformly sampled, where known; ``part``: :func:`_pre_trigger` of ``t``
+    where worked out already."""
     if win.kind != "sensor" or name not in win.baseline:
         return WHITE
     if uniform is None:
@@ -446,7 +447,7 @@ def _noise_model(record, win, name, t, f, uniform=None) -> NoiseModel:
         uniform = t.size >= 3 and not np.ptp(dt) > 1e-6 * np.mean(dt)
     if not uniform:
         return WHITE
-    pre = _before_contact(win, t, f)
+    pre = _before_contact(win, t, f, part=part)
     if pre is not None:
         return measure_noise(pre)
     pre = t < win.t_start - 0.1 * win.duration
@@ -524,6 +525,7 @@ def prepare(
     if margin is not None and not (margin >= 0):
         raise InputError(f"margin must be ≥ 0 (a fraction of the contact duration), got {margin}")
     spec = sensor_spec(record, sensor)
+    t_all = times(record)
     with warnings.catch_warnings():  # a fit says what it leaves out (its verdict)
         warnings.simplefilter("ignore", SpikeWarning)
         # a stated discharge is undone for the window: the samples after the pulse lie on
@@ -543,12 +545,12 @@ def prepare(
     spikes = win.spike_indices()
     grid, raw = None, []
     for name in channels:
-        t, f = channel(record, name)
-        keep = (t >= lo) & (t <= hi)
+        t, f = channel(record, name, t_all)
+        keep = t == t if margin is None else (t >= lo) & (t <= hi)  # (−∞ ≤ t ≤ ∞: not NaN)
         drop = np.zeros(t.size, dtype=bool)
         if half is not None:
             sat = np.abs(f) >= half - 0.5 * spec.quantum - 1e-12 * half
-            if np.any(sat & keep):
+            if (sat & keep).any():
                 notes.append(
                     f"{name}: {int(np.sum(sat & keep))} saturated samples (ADC end codes) left out"
                 )
@@ -564,20 +566,34 @@ def prepare(
             grid = t[keep]
         elif grid is not False and not np.array_equal(grid, t[keep]):
             grid = False  # the channels do not share one clock
-    dt = np.diff(grid) if grid is not False else np.zeros(0)
-    uniform = grid is not False and grid.size > 2 and np.ptp(dt) <= 1e-6 * np.mean(dt)
+    uniform, step = False, None
+    if grid is not False and grid.size > 2:
+        dt = np.diff(grid)
+        step = np.add.reduce(dt) / dt.size  # numpy's mean and ptp, without their wrappers
+        uniform = dt.max() - dt.min() <= 1e-6 * step
     chans, excluded = [], {}
+    shared = []  # _pre_trigger of the record's own instants, once worked out
+
+    def pre_trigger(t, spikes=None):
+        if spikes or t is not t_all:
+            return _pre_trigger(win, t, spikes)
+        if not shared:
+            shared.append(_pre_trigger(win, t))
+        return shared[0]
+
     for name, t, f, keep, drop in raw:
         where = np.flatnonzero(keep)
         left = drop[where]
-        if np.any(left):
+        any_left = left.any()
+        if any_left:
             excluded[name] = where[left].tolist()
         if not uniform:  # without a common grid, a left-out sample is simply dropped
             keep = keep & ~drop
             left = np.zeros(np.count_nonzero(keep), dtype=bool)
+            any_left = False
         tc = t[keep]
         yc = f[keep] - win.baseline[name](tc) if name in win.baseline else f[keep]
-        index = np.flatnonzero(~left) if np.any(left) else None
+        index = np.flatnonzero(~left) if any_left else None
         if index is not None:
             tc, yc = tc[index], yc[index]
         if tc.size < 5:
@@ -587,28 +603,33 @@ def prepare(
             )
         if noise is not None and name in noise:
             sigma, n_noise = float(noise[name]), 0
-        elif quiet_after and (pre := _before_contact(win, t, f, spikes.get(name))) is not None:
+        elif (
+            quiet_after
+            and (pre := _before_contact(win, t, f, part=pre_trigger(t, spikes.get(name))))
+            is not None
+        ):
             sigma, n_noise = mad_sigma(pre), pre.size
         else:
             sigma, note = _noise(win, name, tc, yc)
             n_noise = record.sizes["time"] - win.n_samples if note is None else tc.size
             if note:
                 notes.append(note)
-        floor = max(spec.quantum / math.sqrt(12.0), 1e-9 * float(np.max(np.abs(yc))), 1e-300)
+        floor = max(spec.quantum / math.sqrt(12.0), 1e-9 * float(np.abs(yc).max()), 1e-300)
         sigma = max(sigma, floor)
         basis = baseline_basis(tc) if baseline else None
         model = WHITE
         if noise_model:
             # every channel's instants are the grid's where it is one (no margin cuts them)
             known = uniform if margin is None and grid is not False else None
-            model = _noise_model(record, win, name, *_repaired(record, win, name, t, f), known)
+            tr, fr = _repaired(record, win, name, t, f)
+            model = _noise_model(record, win, name, tr, fr, known, pre_trigger(tr))
         chans.append(Channel(name, tc, yc, sigma, basis, int(max(n_noise, 0)), model, index))
     fine, sos, os_ = None, None, 1
     if uniform:
         # a uniform record gets the filter's fine grid even without a stated bandwidth:
         # a fit may then find the bandwidth (pipeline.fit.contact, systematics)
         os_ = int(oversample)
-        fine, h = fine_grid(grid, os_)
+        fine, h = _fine_grid(grid, os_, float(step))
         sos = spec.sos(h) if spec.filtered else None
     elif spec.filtered or spec.dynamic:
         notes.append(
@@ -632,7 +653,7 @@ def baseline_basis(t) -> np.ndarray:
     """Orthonormal basis (n, 2) of {1, t − t̄} at the instants ``t`` [s] (two or more
     distinct): a channel's residual baseline, fitted with the contact (module notes). The
     two functions are orthogonal over the samples: each is normalised."""
-    x = t - t.mean()
+    x = t - np.add.reduce(t) / t.size  # numpy's mean, without its wrapper
     basis = np.empty((t.size, 2))
     basis[:, 0] = 1.0 / math.sqrt(t.size)
     basis[:, 1] = x / math.sqrt(float(x @ x))
@@ -642,18 +663,26 @@ def baseline_basis(t) -> np.ndarray:
 def fine_grid(t, oversample: int) -> tuple:
     """The filter's fine grid of uniformly sampled instants ``t`` [s], ``oversample`` points
     a sample (sample k at ``fine[k * oversample]``), and its step [s]."""
-    h = float(np.mean(np.diff(t))) / oversample
-    return t[0] + np.arange((t.size - 1) * oversample + 1) * h, h
+    return _fine_grid(t, oversample, float(np.mean(np.diff(t))))
+
+
+def _fine_grid(t, oversample, step):
+    """:func:`fine_grid` of the instants ``t`` [s] whose mean step ``step`` [s] is known."""
+    h = step / oversample
+    fine = np.arange((t.size - 1) * oversample + 1, dtype=float)  # k·h + t₀, in place
+    fine *= h
+    fine += t[0]
+    return fine, h
 
 
 #: Residuals of a line below this fraction of the samples' magnitude are its rounding [-].
 _ROUNDING = 1e-12
 
 
-def _before_contact(win, t, f, spikes=None):
-    """The channel's samples before the contact (less a tenth of its duration), less their
-    own least-squares line (zeros where they lie on it to :data:`_ROUNDING`); None where
-    there are fewer than 20."""
+def _pre_trigger(win, t, spikes=None):
+    """The samples of instants ``t`` [s] before the contact (less a tenth of its duration and
+    the ``spikes``' indices) and their instants' part of a least-squares line: (mask,
+    x = t − t̄, Σx²) — None where there are fewer than 20 (or no sensor record)."""
     if win.kind != "sensor":
         return None
     pre = t < win.t_start - 0.1 * win.duration
@@ -661,11 +690,24 @@ def _before_contact(win, t, f, spikes=None):
         pre[spikes] = False
     if np.count_nonzero(pre) < 20:
         return None
-    tt, yy = t[pre], f[pre]
+    tt = t[pre]
+    x = tt - np.add.reduce(tt) / tt.size  # numpy's mean, without its wrapper
+    return pre, x, float(x @ x)
+
+
+def _before_contact(win, t, f, spikes=None, part=False):
+    """The channel's samples before the contact (less a tenth of its duration), less their
+    own least-squares line (zeros where they lie on it to :data:`_ROUNDING`); None where
+    there are fewer than 20. ``part``: :func:`_pre_trigger` of ``t`` and ``spikes`` where
+    worked out already (channels on one clock share it)."""
+    part = _pre_trigger(win, t, spikes) if part is False else part
+    if part is None:
+        return None
+    pre, x, xx = part
+    yy = f[pre]
     # the least-squares line in closed form: 1 and t − t̄ are orthogonal over the samples
-    x = tt - tt.mean()
-    r = yy - (yy.mean() + x * (float(x @ yy) / float(x @ x)))
-    if np.max(np.abs(r)) <= _ROUNDING * np.max(np.abs(yy)):
+    r = yy - (np.add.reduce(yy) / yy.size + x * (float(x @ yy) / xx))
+    if np.abs(r).max() <= _ROUNDING * np.abs(yy).max():
         # samples on their line to the rounding (one ADC level, a noise-free record) carry
         # no noise: the rounding's own correlation would pass for the noise's
         r[:] = 0.0
