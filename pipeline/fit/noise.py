@@ -109,15 +109,18 @@ def _levinson(rho, p_max):
     """AR coefficients of orders 0…p_max and their innovation variances (over the
     variance) from autocorrelations ``rho`` (Levinson–Durbin)."""
     phis, vs = [np.zeros(0)], [1.0]
-    phi, v = np.zeros(0), 1.0
+    phi, v = phis[0], 1.0
     for k in range(1, p_max + 1):
         acc = rho[k] - (phi @ rho[k - 1 : 0 : -1] if k > 1 else 0.0)
         kappa = acc / v
-        phi = np.concatenate([phi - kappa * phi[::-1], [kappa]])
+        new = np.empty(k)  # (φ − κ·φ reversed, κ), a new array each order
+        np.subtract(phi, kappa * phi[::-1], out=new[:-1])
+        new[-1] = kappa
+        phi = new
         v = v * (1.0 - kappa * kappa)
         if not v > 0:
             break
-        phis.append(phi.copy())
+        phis.append(phi)
         vs.append(v)
     return phis, vs
 
@@ -132,13 +135,14 @@ def measure_noise(x) -> NoiseModel:
     rho = _acf(x, max(lags, P_MAX)) if n >= MIN_SAMPLES else None
     if rho is None:
         return NoiseModel(np.zeros(0), n=n)
-    q = n * (n + 2) * float(np.sum(rho[1 : lags + 1] ** 2 / (n - np.arange(1, lags + 1))))
+    # (numpy's sum, without its wrapper)
+    q = n * (n + 2) * float(np.add.reduce(rho[1 : lags + 1] ** 2 / (n - np.arange(1, lags + 1))))
     p_value = float(special.chdtrc(lags, q))
     if p_value >= LB_ALPHA:
         return NoiseModel(np.zeros(0), 1.0, p_value, float(rho[1]), n)
     phis, vs = _levinson(rho, min(P_MAX, n // 8))
     bic = [n * math.log(v) + k * math.log(n) for k, v in enumerate(vs)]
-    k = int(np.argmin(bic))
+    k = min(range(len(bic)), key=bic.__getitem__)  # numpy's argmin (the first; all finite)
     if k == 0:
         return NoiseModel(np.zeros(0), 1.0, p_value, float(rho[1]), n)
     return NoiseModel(phis[k], math.sqrt(vs[k]), p_value, float(rho[1]), n)

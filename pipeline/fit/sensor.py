@@ -267,8 +267,9 @@ def _num(value, name, src):
         raise InputError(f"sensor {name} = {value!r} is not a number ({src})") from None
 
 
-def _from_mapping(m: Mapping, src: str) -> SensorSpec:
-    known = {
+#: The fields a sensor mapping may hold (the fits read some; a sensor CSV writes them all).
+_KNOWN = frozenset(
+    {
         "rate",
         "noise",
         "offset",
@@ -294,8 +295,12 @@ def _from_mapping(m: Mapping, src: str) -> SensorSpec:
         "damping_ratio",
         "discharge",
     }
-    unknown = sorted(set(m) - known)
-    if unknown:
+)
+
+
+def _from_mapping(m: Mapping, src: str) -> SensorSpec:
+    if not _KNOWN.issuperset(m):
+        unknown = sorted(set(m) - _KNOWN)
         raise InputError(
             f"unknown sensor field(s) {', '.join(map(repr, unknown))} ({src}); the fits read "
             "bandwidth [Hz], filter_order, quantum [N] or bits with full_scale [N], "
@@ -328,7 +333,7 @@ def _from_mapping(m: Mapping, src: str) -> SensorSpec:
         C = m["crosstalk"]
     if C is not None:
         C = np.asarray(C, dtype=float)
-        if C.size != 9 or not np.all(np.isfinite(C)):
+        if C.size != 9 or not np.isfinite(C).all():
             raise InputError(f"sensor crosstalk_matrix must hold 9 finite numbers ({src})")
         C = C.reshape(3, 3)
     fn = _num(m["resonance"], "resonance", src) if m.get("resonance") is not None else math.inf
@@ -440,15 +445,16 @@ def sensor_spec(record, sensor=None) -> SensorSpec:
         meta, stated, written = {}, {}, {}  # one pass: a record carries scores of others
         decoupled = False
         for k, v in record.attrs.items():
-            if not str(k).startswith(("meta_", "sensor_", "decouple")):
+            key = str(k)
+            if not key.startswith(("meta_", "sensor_", "decouple")):
                 continue  # most of a record's attributes (a single test: a score of them)
-            if str(k).startswith("decouple"):
-                decoupled = True
-            elif str(k).startswith("meta_sensor_"):  # to_sensor's, through a sensor CSV
-                if (value := _written(v)) is not None:
+            if key.startswith("meta_"):
+                if not key.startswith("meta_sensor_"):
+                    meta[k] = v
+                elif (value := _written(v)) is not None:  # to_sensor's, through a sensor CSV
                     written[k.removeprefix("meta_sensor_")] = value
-            elif str(k).startswith("meta_"):
-                meta[k] = v
+            elif key.startswith("decouple"):
+                decoupled = True
             elif k.startswith("sensor_"):
                 stated[k.removeprefix("sensor_")] = v
         stated = {**written, **stated}  # the record's own attributes win
