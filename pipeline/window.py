@@ -1324,8 +1324,12 @@ def _choose(runs, r, sigma, kk, src) -> _Found | None:
     if not runs:
         return None
     spike = GLITCH_SAMPLES
-    glitches = [run for run in runs if run.size <= spike]
-    pulses = [run for run in runs if run.size > spike and run.core >= 2]
+    glitches, pulses = [], []
+    for run in runs:
+        if run.b - run.a < spike:  # run.size <= spike
+            glitches.append(run)
+        elif run.core >= 2:
+            pulses.append(run)
     if not pulses:
         if glitches:
             g = max(glitches, key=lambda run: abs(r[run.peak]))
@@ -1426,7 +1430,10 @@ def _dip(r, run, sigma, kk) -> int | None:
     before = np.maximum.accumulate(seg)
     after = np.maximum.accumulate(seg[::-1])[::-1]
     hump = np.minimum(before, after)
-    deep = (seg <= DIP_FRACTION * hump) & (hump - seg >= kk * sigma) & (hump >= 3 * kk * sigma)
+    deep = hump - seg >= kk * sigma  # rare: a single pulse's samples lie on their hump
+    if not deep.any():
+        return None
+    deep &= (seg <= DIP_FRACTION * hump) & (hump >= 3 * kk * sigma)
     if not deep.any():
         return None
     i = int(np.argmax(deep))
@@ -1483,9 +1490,10 @@ def _check_clipping(record, t, found, outside, src):
         raw = record.variables[c].values
         seg = raw[found.a : found.b + 1]
         for value in (seg.max(), seg.min()):
-            at = np.flatnonzero(seg == value)
-            if at.size < 3:
+            at = seg == value
+            if np.count_nonzero(at) < 3:
                 continue
+            at = np.flatnonzero(at)
             base = raw[outside]
             # the rate of equal neighbours in the baseline: how often the noise repeats a value
             rep = (np.count_nonzero(np.diff(base) == 0) + 1) / max(base.size, 2)
