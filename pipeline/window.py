@@ -1072,6 +1072,7 @@ def _sensor(record, *, k, false_alarm, guard, max_iter, discharge):
             first, last = new.ringing[0], new.ringing[-1]
             new_outside[first.a : last.b + last.size + 1] = False
         left, right = _sides(new_outside, t, t0, t1)
+        ends = (t0, t1, left, right)  # the last search's, on its residuals r
         if left + right < 8:
             _check_truncated(new, t, r, sigma, kk, course, src)
             raise InputError(
@@ -1093,6 +1094,7 @@ def _sensor(record, *, k, false_alarm, guard, max_iter, discharge):
     # the last detection's residuals and noise hold unless the line or its samples changed
     if base != r_base:
         r = course.residual(y, base)
+        ends = None
     if found is not None and (base != r_base or not np.array_equal(outside, r_outside)):
         sigma = _sigma(r, outside, fn, span)
     fn_spikes = [sp for sp in spikes if sp.channel == "Fn"]
@@ -1116,7 +1118,8 @@ def _sensor(record, *, k, false_alarm, guard, max_iter, discharge):
             path=src,
         )
     _check_truncated(found, t, r, sigma, kk, course, src)
-    t0, t1 = _ends(t, r, found.a, found.b)
+    # the last search's ends and sides where its residuals hold (its mask is ``outside``)
+    t0, t1 = _ends(t, r, found.a, found.b) if ends is None else ends[:2]
     _check_clipping(record, t, found, outside, src)
     # spikes worth a word: well above the threshold, and away from the pulse's edges
     # (where the noise of a short record's σ estimate crosses k·σ now and then)
@@ -1134,7 +1137,7 @@ def _sensor(record, *, k, false_alarm, guard, max_iter, discharge):
         found = dataclasses.replace(found, glitches=tuple(sorted(runs, key=lambda g: g.a)))
     _report_events(found, t, r_raw, src)
     _report_spikes([sp for sp in spikes if sp not in lone], src)
-    left, right = _sides(outside, t, t0, t1)
+    left, right = _sides(outside, t, t0, t1) if ends is None else ends[2:]
     noise, baseline = {"Fn": sigma}, {"Fn": base}  # Fn's: the detection's own
     # where the discharge is undone, the window's record holds the force so restored
     restored = {} if course.basis is None else {"Fn": r + base(t)}
@@ -1302,6 +1305,10 @@ def _runs(r, sigma, kk) -> list[_Run]:
     above = np.zeros(r.size + 2, dtype=bool)  # a sample below σ on either side
     level = kk * sigma
     for sign in (1, -1):
+        if sign < 0:  # most records have no excursion below −k·σ: the least value says so
+            low = r.min()
+            if not (low < -level or (low != low and (r < -level).any())):  # (NaN: look)
+                continue
         hot = r > level if sign > 0 else r < -level  # sign·r > k·σ
         if not hot.any():
             continue
@@ -1310,8 +1317,8 @@ def _runs(r, sigma, kk) -> list[_Run]:
         np.greater(s, sigma, out=above[1:-1])
         edges = np.flatnonzero(above[1:] != above[:-1])
         starts, stops = edges[::2], edges[1::2] - 1
-        n_hot = hot.cumsum()  # core samples up to each sample
-        cores = n_hot[stops] - n_hot[starts] + hot[starts]  # core samples of each stretch
+        at = np.flatnonzero(hot)  # core samples of each stretch: those in [start, stop]
+        cores = np.searchsorted(at, stops, "right") - np.searchsorted(at, starts, "left")
         for j in np.flatnonzero(cores).tolist():
             a, b = int(starts[j]), int(stops[j])
             pk = a + int(s[a : b + 1].argmax())
