@@ -419,6 +419,24 @@ def _written(value):
     return None
 
 
+#: The prefixes of a record's attributes that may state its sensor.
+_NAMED = ("meta_", "sensor_", "decouple")
+#: The fields of a record's ``sensor_*`` attributes the fits read.
+_READ = frozenset(
+    {
+        "bandwidth",
+        "filter_order",
+        "quantum",
+        "full_scale",
+        "bits",
+        "crosstalk_matrix",
+        "resonance",
+        "damping_ratio",
+        "discharge",
+    }
+)
+
+
 def sensor_spec(record, sensor=None) -> SensorSpec:
     """The sensor a record was measured with (module notes give the order of sources).
 
@@ -444,10 +462,13 @@ def sensor_spec(record, sensor=None) -> SensorSpec:
     else:
         meta, stated, written = {}, {}, {}  # one pass: a record carries scores of others
         decoupled = False
-        for k, v in record.attrs.items():
-            key = str(k)
-            if not key.startswith(("meta_", "sensor_", "decouple")):
-                continue  # most of a record's attributes (a single test: a score of them)
+        attrs = record.attrs
+        try:  # most of a record's attributes are none of these (a single test: a score of them)
+            named = [k for k in attrs if k.startswith(_NAMED)]
+        except (AttributeError, TypeError):  # a key that is no string
+            named = [k for k in attrs if str(k).startswith(_NAMED)]
+        for k in named:
+            v, key = attrs[k], str(k)
             if key.startswith("meta_"):
                 if not key.startswith("meta_sensor_"):
                     meta[k] = v
@@ -459,18 +480,7 @@ def sensor_spec(record, sensor=None) -> SensorSpec:
                 stated[k.removeprefix("sensor_")] = v
         stated = {**written, **stated}  # the record's own attributes win
         fields = _from_metadata(meta)
-        keep = (
-            "bandwidth",
-            "filter_order",
-            "quantum",
-            "full_scale",
-            "bits",
-            "crosstalk_matrix",
-            "resonance",
-            "damping_ratio",
-            "discharge",
-        )
-        fields.update({k: v for k, v in stated.items() if k in keep})
+        fields.update({k: v for k, v in stated.items() if k in _READ})
         if "bandwidth" in stated and "filter_order" in stated:
             src = "the record's sensor_* attributes"
         else:
