@@ -869,7 +869,7 @@ def _centred(tt):
     line through samples at them that is the instants' alone (:func:`_line`)."""
     t_mean = np.add.reduce(tt) / tt.size
     x = tt - t_mean
-    return t_mean, x, float(x @ x)
+    return t_mean, x, float(x.dot(x))  # (x @ x: the same BLAS dot, a lighter call)
 
 
 def _line(tt, y, t_ref, both_sides, centred=None):
@@ -882,7 +882,7 @@ def _line(tt, y, t_ref, both_sides, centred=None):
     # the least-squares line in closed form, about the samples' mean instant
     t_mean, x, xx = _centred(tt) if centred is None else centred
     y_mean = np.add.reduce(y) / y.size
-    s = float(x @ (y - y_mean)) / xx
+    s = float(x.dot(y - y_mean)) / xx
     return Baseline(float(y_mean - s * t_mean), s, float(t_ref))
 
 

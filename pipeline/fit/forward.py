@@ -656,7 +656,7 @@ def baseline_basis(t) -> np.ndarray:
     x = t - np.add.reduce(t) / t.size  # numpy's mean, without its wrapper
     basis = np.empty((t.size, 2))
     basis[:, 0] = 1.0 / math.sqrt(t.size)
-    basis[:, 1] = x / math.sqrt(float(x @ x))
+    basis[:, 1] = x / math.sqrt(float(x.dot(x)))  # (x @ x, by the lighter call)
     return basis
 
 
@@ -692,7 +692,7 @@ def _pre_trigger(win, t, spikes=None):
         return None
     tt = t[pre]
     x = tt - np.add.reduce(tt) / tt.size  # numpy's mean, without its wrapper
-    return pre, x, float(x @ x)
+    return pre, x, float(x.dot(x))  # (x @ x, by the lighter call)
 
 
 def _before_contact(win, t, f, spikes=None, part=False):
@@ -706,7 +706,7 @@ def _before_contact(win, t, f, spikes=None, part=False):
     pre, x, xx = part
     yy = f[pre]
     # the least-squares line in closed form: 1 and t − t̄ are orthogonal over the samples
-    r = yy - (np.add.reduce(yy) / yy.size + x * (float(x @ yy) / xx))
+    r = yy - (np.add.reduce(yy) / yy.size + x * (float(x.dot(yy)) / xx))
     if np.abs(r).max() <= _ROUNDING * np.abs(yy).max():
         # samples on their line to the rounding (one ADC level, a noise-free record) carry
         # no noise: the rounding's own correlation would pass for the noise's
