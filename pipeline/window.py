@@ -641,7 +641,7 @@ def _inside(t, t_start, t_end):
     one run (sorted times), else an array."""
     # a tolerance of a few ulp keeps samples that sit exactly on the window's ends
     tol = _EPS4 * max(abs(t_start), abs(t_end), 1e-300)
-    idx = np.flatnonzero((t >= t_start - tol) & (t <= t_end + tol))
+    idx = ((t >= t_start - tol) & (t <= t_end + tol)).nonzero()[0]  # (flatnonzero)
     if idx.size and idx[-1] - idx[0] + 1 == idx.size:
         return slice(int(idx[0]), int(idx[-1]) + 1)
     return idx
@@ -1003,8 +1003,8 @@ def _repair_spikes(record, t, false_alarm):
     record's instants [s])."""
     if t.size < 20:
         return record, ()
-    dt = np.diff(t)
-    if dt.max() - dt.min() > 1e-6 * (np.add.reduce(dt) / dt.size):  # numpy's ptp and mean
+    dt = t[1:] - t[:-1]  # numpy's diff, ptp and mean, without their wrappers
+    if dt.max() - dt.min() > 1e-6 * (np.add.reduce(dt) / dt.size):
         return record, ()
     found, new = [], {}
     chans = {c: yc for c in _channels(record) if (yc := channel(record, c, t)[1]).size == t.size}
@@ -1315,11 +1315,11 @@ def _runs(r, sigma, kk) -> list[_Run]:
         s = r if sign > 0 else -r
         # widen each core sample to its run above σ: runs are the maximal stretches above σ
         np.greater(s, sigma, out=above[1:-1])
-        edges = np.flatnonzero(above[1:] != above[:-1])
+        edges = (above[1:] != above[:-1]).nonzero()[0]  # (flatnonzero, without its wrapper)
         starts, stops = edges[::2], edges[1::2] - 1
-        at = np.flatnonzero(hot)  # core samples of each stretch: those in [start, stop]
-        cores = np.searchsorted(at, stops, "right") - np.searchsorted(at, starts, "left")
-        for j in np.flatnonzero(cores).tolist():
+        at = hot.nonzero()[0]  # core samples of each stretch: those in [start, stop]
+        cores = at.searchsorted(stops, "right") - at.searchsorted(starts, "left")
+        for j in cores.nonzero()[0].tolist():
             a, b = int(starts[j]), int(stops[j])
             pk = a + int(s[a : b + 1].argmax())
             runs.append(_Run(a, b, sign, pk, int(cores[j])))

@@ -568,7 +568,7 @@ def prepare(
             grid = False  # the channels do not share one clock
     uniform, step = False, None
     if grid is not False and grid.size > 2:
-        dt = np.diff(grid)
+        dt = grid[1:] - grid[:-1]  # numpy's diff
         step = np.add.reduce(dt) / dt.size  # numpy's mean and ptp, without their wrappers
         uniform = dt.max() - dt.min() <= 1e-6 * step
     chans, excluded = [], {}
@@ -582,7 +582,7 @@ def prepare(
         return shared[0]
 
     for name, t, f, keep, drop in raw:
-        where = np.flatnonzero(keep)
+        where = keep.nonzero()[0]  # (flatnonzero, without its wrapper)
         left = drop[where]
         any_left = left.any()
         if any_left:
@@ -593,7 +593,7 @@ def prepare(
             any_left = False
         tc = t[keep]
         yc = f[keep] - win.baseline[name](tc) if name in win.baseline else f[keep]
-        index = np.flatnonzero(~left) if any_left else None
+        index = (~left).nonzero()[0] if any_left else None
         if index is not None:
             tc, yc = tc[index], yc[index]
         if tc.size < 5:
