@@ -1095,7 +1095,7 @@ def _sensor(record, *, k, false_alarm, guard, max_iter, discharge):
     if base != r_base:
         r = course.residual(y, base)
         ends = None
-    if found is not None and (base != r_base or not np.array_equal(outside, r_outside)):
+    if found is not None and (base != r_base or not (outside == r_outside).all()):
         sigma = _sigma(r, outside, fn, span)
     fn_spikes = [sp for sp in spikes if sp.channel == "Fn"]
     if found is None and fn_spikes:

@@ -573,6 +573,7 @@ def prepare(
         uniform = dt.max() - dt.min() <= 1e-6 * step
     chans, excluded = [], {}
     shared = []  # _pre_trigger of the record's own instants, once worked out
+    grid_basis = None  # the baseline basis at the grid's instants, shared by its channels
 
     def pre_trigger(t, spikes=None):
         if spikes or t is not t_all:
@@ -616,7 +617,14 @@ def prepare(
                 notes.append(note)
         floor = max(spec.quantum / math.sqrt(12.0), 1e-9 * float(np.abs(yc).max()), 1e-300)
         sigma = max(sigma, floor)
-        basis = baseline_basis(tc) if baseline else None
+        if not baseline:
+            basis = None
+        elif index is None and grid is not False and tc.size == grid.size:  # the grid's
+            if grid_basis is None:  # instants (as a stored record's channels share it)
+                grid_basis = baseline_basis(tc)
+            basis = grid_basis
+        else:
+            basis = baseline_basis(tc)
         model = WHITE
         if noise_model:
             # every channel's instants are the grid's where it is one (no margin cuts them)
