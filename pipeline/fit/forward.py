@@ -456,7 +456,7 @@ def _noise_model(record, win, name, t, f, uniform=None, part=False) -> NoiseMode
 
 def _noise(win, name, t, f):
     sigma = float(win.noise.get(name, float("nan")))
-    if np.isfinite(sigma):
+    if math.isfinite(sigma):
         return sigma, None
     if t.size >= 5:
         return float(noise_level(win, None, name)), (
@@ -547,15 +547,15 @@ def prepare(
     for name in channels:
         t, f = channel(record, name, t_all)
         keep = t == t if margin is None else (t >= lo) & (t <= hi)  # (−∞ ≤ t ≤ ∞: not NaN)
-        drop = np.zeros(t.size, dtype=bool)
-        if half is not None:
-            sat = np.abs(f) >= half - 0.5 * spec.quantum - 1e-12 * half
-            if (sat & keep).any():
+        if half is not None:  # the ADC's end codes, left out
+            drop = np.abs(f) >= half - 0.5 * spec.quantum - 1e-12 * half
+            if (drop & keep).any():
                 notes.append(
-                    f"{name}: {int(np.sum(sat & keep))} saturated samples (ADC end codes) left out"
+                    f"{name}: {int(np.sum(drop & keep))} saturated samples (ADC end codes) left out"
                 )
-            drop |= sat
-        if name in spikes and t.size == record.sizes["time"]:
+        else:
+            drop = np.zeros(t.size, dtype=bool)
+        if name in spikes and t.size == t_all.size:  # (the record's samples)
             drop[spikes[name]] = True
             notes.append(
                 f"{name}: samples {spikes[name]} left out: isolated spikes no force history "
@@ -612,7 +612,7 @@ def prepare(
             sigma, n_noise = mad_sigma(pre), pre.size
         else:
             sigma, note = _noise(win, name, tc, yc)
-            n_noise = record.sizes["time"] - win.n_samples if note is None else tc.size
+            n_noise = t_all.size - win.n_samples if note is None else tc.size
             if note:
                 notes.append(note)
         floor = max(spec.quantum / math.sqrt(12.0), 1e-9 * float(np.abs(yc).max()), 1e-300)

@@ -467,17 +467,16 @@ def sensor_spec(record, sensor=None) -> SensorSpec:
             named = [k for k in attrs if k.startswith(_NAMED)]
         except (AttributeError, TypeError):  # a key that is no string
             named = [k for k in attrs if str(k).startswith(_NAMED)]
-        for k in named:
-            v, key = attrs[k], str(k)
-            if key.startswith("meta_"):
-                if not key.startswith("meta_sensor_"):
-                    meta[k] = v
-                elif (value := _written(v)) is not None:  # to_sensor's, through a sensor CSV
-                    written[k.removeprefix("meta_sensor_")] = value
-            elif key.startswith("decouple"):
+        for k in named:  # each starts with one of the prefixes: its first letter tells which
+            key = str(k)
+            if key[0] == "s":  # sensor_…
+                stated[k.removeprefix("sensor_")] = attrs[k]
+            elif key[0] == "d":  # decouple…
                 decoupled = True
-            elif k.startswith("sensor_"):
-                stated[k.removeprefix("sensor_")] = v
+            elif not key.startswith("meta_sensor_"):
+                meta[k] = attrs[k]
+            elif (value := _written(attrs[k])) is not None:  # to_sensor's, through a sensor CSV
+                written[k.removeprefix("meta_sensor_")] = value
         stated = {**written, **stated}  # the record's own attributes win
         fields = _from_metadata(meta)
         fields.update({k: v for k, v in stated.items() if k in _READ})
