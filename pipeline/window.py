@@ -1033,8 +1033,9 @@ def _sensor(record, *, k, false_alarm, guard, max_iter, discharge):
     src = record.attrs.get("source")
     raw_fn = record.variables["Fn"].values
     t = times(record)
-    record, spikes = _repair_spikes(record, t, false_alarm)
-    fn = record.variables["Fn"].values
+    repaired, spikes = _repair_spikes(record, t, false_alarm)
+    fn = raw_fn if repaired is record else repaired.variables["Fn"].values
+    record = repaired
     n = t.size
     if n < 20:
         raise InputError(

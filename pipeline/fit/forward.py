@@ -583,10 +583,10 @@ def prepare(
         return shared[0]
 
     for name, t, f, keep, drop in raw:
-        where = keep.nonzero()[0]  # (flatnonzero, without its wrapper)
-        left = drop[where]
-        any_left = left.any()
+        any_left = (drop & keep).any()  # any sample kept is left out
         if any_left:
+            where = keep.nonzero()[0]  # (flatnonzero, without its wrapper)
+            left = drop[where]
             excluded[name] = where[left].tolist()
         if not uniform:  # without a common grid, a left-out sample is simply dropped
             keep = keep & ~drop
