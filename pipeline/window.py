@@ -385,8 +385,10 @@ def _find_spikes(Y, kk, sigma=None):
     residuals and their noise are measured for all the rows at once."""
     D = _spike_residuals(Y)  # at samples 3 … n − 4
     if sigma is None:
-        dev = D - _row_medians(D)[:, None]
-        sigmas = _MAD_TO_SIGMA * _row_medians(np.abs(dev, out=dev), scratch=True)
+        p = D.copy()  # reordered: |p − median| holds the values |D − median| does
+        median = _row_medians(p, scratch=True)
+        np.abs(np.subtract(p, median[:, None], out=p), out=p)
+        sigmas = _MAD_TO_SIGMA * _row_medians(p, scratch=True)
         sigmas = sigmas / math.sqrt(1.5)
     else:
         sigmas = np.full(Y.shape[0], float(sigma))
@@ -1397,6 +1399,8 @@ def _ringing(runs, r, main_size) -> list:
     :data:`RING_FRACTION` of its neighbour, and the lobes that follow within a period of
     it no larger than its last (where one between sank into the noise); those shorter
     than the contact pulse (a later impact lasts longer than the first, t_c ∝ v^(-1/5))."""
+    if len(runs) < 3:  # (no ring: it has three lobes)
+        return []
     out, chain = [], runs[:1]
 
     def close(chain):
