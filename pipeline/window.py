@@ -159,11 +159,11 @@ _any, _all = np.logical_or.reduce, np.logical_and.reduce
 _SORT_MEDIAN = 256
 
 
-def _median(a, scratch=False):
+def _median(a, scratch=False, nan=True):
     """:func:`numpy.median` of all the values of ``a`` (the same value, NaN if any is NaN) by
     one :func:`numpy.partition` at the middle, without its general-axis machinery (a few µs
     a call; the window takes a score of medians). ``scratch``: ``a`` is a temporary array of
-    floats, reordered in place."""
+    floats, reordered in place; ``nan``: ``a`` may hold a NaN (False: it is known not to)."""
     a = np.asarray(a, dtype=float).ravel()
     n = a.size
     if n == 0:
@@ -178,7 +178,7 @@ def _median(a, scratch=False):
         top, below = p[-1], p[h - 1]
     else:
         p.partition(h)
-        top = _max(p[h:])
+        top = _max(p[h:]) if nan else 0.0
         below = _max(p[:h]) if n % 2 == 0 else None
     if top != top:  # NaN
         return top
@@ -213,7 +213,8 @@ def _mad_sigma(p) -> float:
     (|p − median| holds the same values as |r − median|, without two temporaries)."""
     median = _median(p, scratch=True)
     np.abs(np.subtract(p, median, out=p), out=p)
-    return float(_MAD_TO_SIGMA * _median(p, scratch=True))
+    # a finite median: p held no NaN, nor does |p − median| (no ∞ − ∞)
+    return float(_MAD_TO_SIGMA * _median(p, scratch=True, nan=not math.isfinite(median)))
 
 
 def default_threshold(n: int, false_alarm: float = 1e-3) -> float:

@@ -469,17 +469,20 @@ def sensor_spec(record, sensor=None) -> SensorSpec:
             named = [k for k in attrs if str(k).startswith(_NAMED)]
         for k in named:  # each starts with one of the prefixes: its first letter tells which
             key = str(k)
-            if key[0] == "s":  # sensor_…
-                stated[k.removeprefix("sensor_")] = attrs[k]
+            if key[0] == "s":  # sensor_…, of the fields read
+                if (name := k.removeprefix("sensor_")) in _READ:
+                    stated[name] = attrs[k]
             elif key[0] == "d":  # decouple…
                 decoupled = True
             elif not key.startswith("meta_sensor_"):
                 meta[k] = attrs[k]
-            elif (value := _written(attrs[k])) is not None:  # to_sensor's, through a sensor CSV
-                written[k.removeprefix("meta_sensor_")] = value
+            elif (name := k.removeprefix("meta_sensor_")) in _READ and (
+                value := _written(attrs[k])
+            ) is not None:  # to_sensor's, through a sensor CSV
+                written[name] = value
         stated = {**written, **stated}  # the record's own attributes win
         fields = _from_metadata(meta)
-        fields.update({k: v for k, v in stated.items() if k in _READ})
+        fields.update(stated)
         if "bandwidth" in stated and "filter_order" in stated:
             src = "the record's sensor_* attributes"
         else:
