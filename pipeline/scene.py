@@ -223,11 +223,7 @@ class Scene:
     def E_eff(self):
         """Effective modulus E* [Pa]: 1/E* = (1−ν1²)/E1 + (1−ν2²)/E2."""
         self._need_elastic()
-        # numbers (floats: the same operations as on arrays, without numpy's) or arrays
-        E, tE = self.E, self.target_E
-        if not _all_floats(E, self.nu, tE, self.target_nu):
-            E, tE = _arr(E), _arr(tE)
-        inv = (1 - self.nu**2) / E + (1 - self.target_nu**2) / tE
+        inv = (1 - self.nu**2) / _arr(self.E) + (1 - self.target_nu**2) / _arr(self.target_E)
         _need_compliance(inv)
         return _scalar(1.0 / inv)
 
@@ -235,11 +231,8 @@ class Scene:
     def G_eff(self):
         """Effective shear modulus G* [Pa]: 1/G* = (2−ν1)/G1 + (2−ν2)/G2."""
         self._need_elastic()
-        E, tE = self.E, self.target_E
-        if not _all_floats(E, self.nu, tE, self.target_nu):
-            E, tE = _arr(E), _arr(tE)
-        g1 = E / (2 * (1 + self.nu))
-        g2 = tE / (2 * (1 + self.target_nu))
+        g1 = _arr(self.E) / (2 * (1 + self.nu))
+        g2 = _arr(self.target_E) / (2 * (1 + self.target_nu))
         inv = (2 - self.nu) / g1 + (2 - self.target_nu) / g2
         _need_compliance(inv)
         return _scalar(1.0 / inv)
@@ -381,12 +374,8 @@ def _is_bool(v) -> bool:
     return isinstance(v, (bool, np.bool_)) or (isinstance(v, np.ndarray) and v.dtype.kind == "b")
 
 
-def _all_floats(*values) -> bool:
-    return all(type(v) is float for v in values)
-
-
 def _need_compliance(inv):
-    if (inv == 0) if type(inv) is float else np.any(np.asarray(inv) == 0):
+    if np.any(np.asarray(inv) == 0):
         raise InputError(
             "ball and target are both rigid (E = target_E = inf): a compliant model needs "
             "a finite Young's modulus for at least one of them"
@@ -394,7 +383,5 @@ def _need_compliance(inv):
 
 
 def _scalar(a):
-    if type(a) is float:
-        return a
     a = np.asarray(a, dtype=float)
     return float(a) if a.ndim == 0 else a

@@ -150,10 +150,6 @@ _NORMAL = NormalDist()
 _MAD_TO_SIGMA = 1.0 / _NORMAL.inv_cdf(0.75)
 
 
-#: ndarray's max, min, any and all without their Python wrappers (numpy's _methods call these)
-_max, _min = np.maximum.reduce, np.minimum.reduce
-_any, _all = np.logical_or.reduce, np.logical_and.reduce
-
 #: Samples up to which a median sorts them rather than selects: a sort (vectorised) beats
 #: the selection on a few hundred, the selection's linear time the sort's n log n beyond.
 _SORT_MEDIAN = 256
@@ -178,8 +174,8 @@ def _median(a, scratch=False, nan=True):
         top, below = p[-1], p[h - 1]
     else:
         p.partition(h)
-        top = _max(p[h:]) if nan else 0.0
-        below = _max(p[:h]) if n % 2 == 0 else None
+        top = p[h:].max() if nan else 0.0
+        below = p[:h].max() if n % 2 == 0 else None
     if top != top:  # NaN
         return top
     return p[h] if n % 2 else (below + p[h]) / 2
@@ -196,11 +192,11 @@ def _row_medians(a, scratch=False):
         top, below = p[:, -1], p[:, h - 1]
     else:
         p.partition(h, axis=1)
-        top = _max(p[:, h:], axis=1)
-        below = _max(p[:, :h], axis=1) if n % 2 == 0 else None
+        top = p[:, h:].max(axis=1)
+        below = p[:, :h].max(axis=1) if n % 2 == 0 else None
     mid = p[:, h] if n % 2 else (below + p[:, h]) / 2
     nan = np.isnan(top)
-    return np.where(nan, top, mid) if _any(nan) else mid
+    return np.where(nan, top, mid) if nan.any() else mid
 
 
 def mad_sigma(r) -> float:
@@ -397,8 +393,8 @@ def _find_spikes(Y, kk, sigma=None):
         sigmas = sigmas / math.sqrt(1.5)
     else:
         sigmas = np.full(Y.shape[0], float(sigma))
-    spans = _max(Y, axis=1) - _min(Y, axis=1)  # numpy.ptp
-    tops = _max(np.abs(D), axis=1)
+    spans = Y.max(axis=1) - Y.min(axis=1)  # numpy.ptp
+    tops = np.abs(D).max(axis=1)
     return [
         _spikes_of(y, d, float(s), float(span), None, kk, float(top))
         for y, d, s, span, top in zip(Y, D, sigmas.tolist(), spans, tops, strict=True)
@@ -1011,7 +1007,7 @@ def _repair_spikes(record, t, false_alarm):
     if t.size < 20:
         return record, ()
     dt = t[1:] - t[:-1]  # numpy's diff, ptp and mean, without their wrappers
-    if _max(dt) - _min(dt) > 1e-6 * (np.add.reduce(dt) / dt.size):
+    if dt.max() - dt.min() > 1e-6 * (np.add.reduce(dt) / dt.size):
         return record, ()
     found, new = [], {}
     chans = {c: yc for c in _channels(record) if (yc := channel(record, c, t)[1]).size == t.size}
@@ -1055,7 +1051,7 @@ def _sensor(record, *, k, false_alarm, guard, max_iter, discharge):
     course = _Course(t, t_ref, discharge)
     y = course.signal(fn)
     base, outside = _initial_baseline(t, y, t_ref, course)
-    span = float(_max(y) - _min(y))  # numpy.ptp
+    span = float(y.max() - y.min())  # numpy.ptp
     found, line_both = None, None  # line_both: the line was fitted on both sides
     sigma = np.nan
     for _ in range(max_iter):
@@ -1092,7 +1088,7 @@ def _sensor(record, *, k, false_alarm, guard, max_iter, discharge):
             )
         both = left >= 4 and right >= 4
         converged = found is not None and found.key == new.key
-        converged = converged and bool(_all(new_outside == outside))
+        converged = converged and bool((new_outside == outside).all())
         if not (converged and both == line_both):  # else the same samples give the same line
             base, line_both = course.fit(y, new_outside, both), both
             outside = new_outside  # (else the same samples: the mask the line was fitted on)
@@ -1103,7 +1099,7 @@ def _sensor(record, *, k, false_alarm, guard, max_iter, discharge):
     if base != r_base:
         r = course.residual(y, base)
         ends = None
-    if found is not None and (base != r_base or not _all(outside == r_outside)):
+    if found is not None and (base != r_base or not (outside == r_outside).all()):
         sigma = _sigma(r, outside, fn, span)
     fn_spikes = [sp for sp in spikes if sp.channel == "Fn"]
     if found is None and fn_spikes:
@@ -1162,7 +1158,7 @@ def _sensor(record, *, k, false_alarm, guard, max_iter, discharge):
         record = record.copy()
         for c, xc in restored.items():
             record[c] = (record[c].dims, xc, record[c].attrs)
-    peak = float(_max(r[found.a : found.b + 1]))
+    peak = float(r[found.a : found.b + 1].max())
     return _finish(
         record,
         t,
@@ -1244,7 +1240,7 @@ def _sigma(r, mask, y, span=None) -> float:
     sigma = _mad_sigma(np.asarray(r[mask], dtype=float)) or float(np.std(r[mask]))
     if sigma == 0.0:
         sigma = adc_step(y) / math.sqrt(12.0)
-    return max(sigma, _RESOLUTION_FLOOR * (float(_max(y) - _min(y)) if span is None else span))
+    return max(sigma, _RESOLUTION_FLOOR * (float(y.max() - y.min()) if span is None else span))
 
 
 def _end_samples(n: int) -> int:
@@ -1314,11 +1310,11 @@ def _runs(r, sigma, kk) -> list[_Run]:
     level = kk * sigma
     for sign in (1, -1):
         if sign < 0:  # most records have no excursion below −k·σ: the least value says so
-            low = _min(r)
-            if not (low < -level or (low != low and _any(r < -level))):  # (NaN: look)
+            low = r.min()
+            if not (low < -level or (low != low and (r < -level).any())):  # (NaN: look)
                 continue
         hot = r > level if sign > 0 else r < -level  # sign·r > k·σ
-        if not _any(hot):
+        if not hot.any():
             continue
         s = r if sign > 0 else -r
         # widen each core sample to its run above σ: runs are the maximal stretches above σ
@@ -1448,10 +1444,10 @@ def _dip(r, run, sigma, kk) -> int | None:
     after = np.maximum.accumulate(seg[::-1])[::-1]
     hump = np.minimum(before, after)
     deep = hump - seg >= kk * sigma  # rare: a single pulse's samples lie on their hump
-    if not _any(deep):
+    if not deep.any():
         return None
     deep &= (seg <= DIP_FRACTION * hump) & (hump >= 3 * kk * sigma)
-    if not _any(deep):
+    if not deep.any():
         return None
     i = int(np.argmax(deep))
     j = i
@@ -1506,7 +1502,7 @@ def _check_clipping(record, t, found, outside, src):
             continue
         raw = record.variables[c].values
         seg = raw[found.a : found.b + 1]
-        for value in (_max(seg), _min(seg)):
+        for value in (seg.max(), seg.min()):
             at = seg == value
             if np.count_nonzero(at) < 3:
                 continue

@@ -549,7 +549,7 @@ def prepare(
         keep = t == t if margin is None else (t >= lo) & (t <= hi)  # (−∞ ≤ t ≤ ∞: not NaN)
         if half is not None:  # the ADC's end codes, left out
             drop = np.abs(f) >= half - 0.5 * spec.quantum - 1e-12 * half
-            if np.logical_or.reduce(drop & keep):  # (ndarray.any, without its wrapper)
+            if (drop & keep).any():
                 notes.append(
                     f"{name}: {int(np.sum(drop & keep))} saturated samples (ADC end codes) left out"
                 )
@@ -570,7 +570,7 @@ def prepare(
     if grid is not False and grid.size > 2:
         dt = grid[1:] - grid[:-1]  # numpy's diff
         step = np.add.reduce(dt) / dt.size  # numpy's mean and ptp, without their wrappers
-        uniform = np.maximum.reduce(dt) - np.minimum.reduce(dt) <= 1e-6 * step
+        uniform = dt.max() - dt.min() <= 1e-6 * step
     chans, excluded = [], {}
     shared = []  # _pre_trigger of the record's own instants, once worked out
     grid_basis = None  # the baseline basis at the grid's instants, shared by its channels
@@ -583,7 +583,7 @@ def prepare(
         return shared[0]
 
     for name, t, f, keep, drop in raw:
-        any_left = np.logical_or.reduce(drop & keep)  # any sample kept is left out
+        any_left = (drop & keep).any()  # any sample kept is left out
         if any_left:
             where = keep.nonzero()[0]  # (flatnonzero, without its wrapper)
             left = drop[where]
@@ -615,8 +615,7 @@ def prepare(
             n_noise = t_all.size - win.n_samples if note is None else tc.size
             if note:
                 notes.append(note)
-        top = float(np.maximum.reduce(np.abs(yc)))  # (ndarray.max, without its wrapper)
-        floor = max(spec.quantum / math.sqrt(12.0), 1e-9 * top, 1e-300)
+        floor = max(spec.quantum / math.sqrt(12.0), 1e-9 * float(np.abs(yc).max()), 1e-300)
         sigma = max(sigma, floor)
         if not baseline:
             basis = None
@@ -716,7 +715,7 @@ def _before_contact(win, t, f, spikes=None, part=False):
     yy = f[pre]
     # the least-squares line in closed form: 1 and t − t̄ are orthogonal over the samples
     r = yy - (np.add.reduce(yy) / yy.size + x * (float(x.dot(yy)) / xx))
-    if np.maximum.reduce(np.abs(r)) <= _ROUNDING * np.maximum.reduce(np.abs(yy)):
+    if np.abs(r).max() <= _ROUNDING * np.abs(yy).max():
         # samples on their line to the rounding (one ADC level, a noise-free record) carry
         # no noise: the rounding's own correlation would pass for the noise's
         r[:] = 0.0
