@@ -25,6 +25,7 @@ no Python loop over the replicates and no lmfit in that hot loop.
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -250,40 +251,56 @@ def local_derivatives(model, datas, Ps, active):
     ``active`` local parameters only: (B, len(active_i), n_i), in the order of
     ``active_i`` (sorted)."""
     B = Ps[0].shape[0]
-    cols, steps, fds = [], [], []
+    cols, steps, plans = [], [], []
     for P, act in zip(Ps, active, strict=True):
-        fd = [l for l in act if PARAMS[l] not in ANALYTIC]
+        plan = _plan(tuple(map(int, act)))
+        fd = plan[0]
         st = np.empty((B, len(fd)))
-        blocks = [P]
+        # the base columns, then one block of them per parameter differenced, each moved
+        # by its step in that parameter
+        Q = np.concatenate([P] * (len(fd) + 1)) if fd else P
         for j, l in enumerate(fd):
-            name = PARAMS[l]
-            if name == "e":
+            if l == _E:
                 h = np.where(P[:, l] + 1e-6 > 1.0, -1e-6, 1e-6)
             else:
-                h = _REL * np.maximum(np.abs(P[:, l]), 1e-3 if name == "mu" else 1e-300)
-            Q = P.copy()
-            Q[:, l] += h
-            blocks.append(Q)
+                h = _REL * np.maximum(np.abs(P[:, l]), 1e-3 if l == _MU else 1e-300)
+            Q[B * (j + 1) : B * (j + 2), l] += h
             st[:, j] = h
-        cols.append(np.concatenate(blocks))
+        cols.append(Q)
         steps.append(st)
-        fds.append(fd)
-    analytic = [tuple(PARAMS[l] for l in act if PARAMS[l] in ANALYTIC) for act in active]
+        plans.append(plan)
+    analytic = [plan[1] for plan in plans]
     res, sols, ders = model.residuals(datas, cols, nderiv=[B] * len(cols), analytic=analytic)
     out_r, out_D = [], []
-    for r, st, fd, der, an, act in zip(res, steps, fds, ders, analytic, active, strict=True):
-        n = r.shape[1]
+    for r, st, der, (_, an, n_act, fd_at, an_at) in zip(res, steps, ders, plans, strict=True):
         base = r[:B]
-        place = {l: i for i, l in enumerate(act)}
-        D = np.empty((B, len(place), n))
-        for j, l in enumerate(fd):  # forward differences, column by column
-            np.subtract(r[B * (j + 1) : B * (j + 2)], base, out=D[:, place[l]])
-            D[:, place[l]] /= st[:, j, None]
+        D = np.empty((B, n_act, r.shape[1]))
+        for j, i in enumerate(fd_at):  # forward differences, column by column
+            np.subtract(r[B * (j + 1) : B * (j + 2)], base, out=D[:, i])
+            D[:, i] /= st[:, j, None]
         if an:
-            D[:, [place[_P[a]] for a in an]] = der
+            D[:, an_at] = der
         out_r.append(base)
         out_D.append(D)
     return out_r, out_D, [None if s is None else s.head(B) for s in sols]
+
+
+_E, _MU = _P["e"], _P["mu"]
+
+
+@functools.lru_cache(maxsize=256)
+def _plan(act):
+    """How :func:`local_derivatives` differentiates with respect to the local parameters
+    ``act`` (a sorted tuple of indices into PARAMS), the same at every call: those by
+    differences, the analytic ones' names, how many, and the places of each kind among
+    ``act`` (the analytic ones' as a slice where they are adjacent)."""
+    fd = tuple(l for l in act if PARAMS[l] not in ANALYTIC)
+    an = tuple(PARAMS[l] for l in act if PARAMS[l] in ANALYTIC)
+    place = {l: i for i, l in enumerate(act)}
+    an_at = [place[_P[a]] for a in an]
+    if an_at and an_at == list(range(an_at[0], an_at[-1] + 1)):
+        an_at = slice(an_at[0], an_at[-1] + 1)
+    return fd, an, len(place), tuple(place[l] for l in fd), an_at
 
 
 def _solve_normal(J, r, damp):
