@@ -61,7 +61,7 @@ from ..simulate import tangential_history
 from ..smooth import noise_level
 from ..window import find_contact, mad_sigma
 from .noise import WHITE, NoiseModel, measure_noise
-from .pulse import E_MIN, normal_pulse, shape_of
+from .pulse import E_MIN, normal_pulse, pulse_table, shape_of
 from .sensor import SensorSpec, sensor_spec
 from .tangential import HISTORY_RULES, TANGENTIAL_MODELS, TangentialResponse, tangential_response
 
@@ -826,8 +826,9 @@ class ForwardModel:
         m = data.m_eff_of(P[:, _I["mass"]])
         v0 = v * data.cos_a
         K = 4.0 / 3.0 * E * np.sqrt(data.R_eff_of(P[:, _I["radius"]]))
-        ds = (m * v0 * v0 / K) ** 0.4
-        return ds, ds / v0 * (1.0 + P[:, _I["time_base"]]), m * v0 * v0 / ds, v0
+        mvv = m * v0 * v0
+        ds = (mvv / K) ** 0.4
+        return ds, ds / v0 * (1.0 + P[:, _I["time_base"]]), mvv / ds, v0
 
     # -------------------------------------------------------------- solve
     def solve(self, datas, Ps) -> list:
@@ -860,9 +861,12 @@ class ForwardModel:
             allrows[:, 2] = 0.0
         uniq, inv = _distinct_rows(allrows)
         e = uniq[:, 0]
-        if not (e.min() >= E_MIN and e.max() <= 1.0):  # NaN fails both
+        if not all(E_MIN <= x <= 1.0 for x in e.tolist()):  # NaN fails both
             raise InputError(f"restitution outside [{E_MIN}, 1]: {e[(e < E_MIN) | (e > 1)]}")
-        pulse = normal_pulse(self.normal, e, self.n_steps)
+        if self.normal == "hertz" and (e != 1).any():
+            normal_pulse(self.normal, e, self.n_steps)  # its InputError
+        # e is checked (the table's own check and clip would change nothing)
+        pulse = pulse_table(self.normal, self.n_steps).pulses(e)
         tang = None
         if self.tangential != "none" and self.solver == "rk4":
             tang = _rk4_response(pulse, uniq, self.tangential, self.history)
@@ -894,13 +898,13 @@ class ForwardModel:
         k = sol.index
         n = pul.n_steps
         step = pul.tau_c[:, None] / n  # (U, 1) of the unique problems
-        tables = [_cubic_steps(pul.f, pul.df, step)]
-        if need_t and sol.tang is not None:
-            tables.append(_cubic_steps(sol.tang.ft, sol.tang.dft, step, sol.tang.kink))
+        both = need_t and sol.tang is not None
         # the series' coefficients side by side, (4·S, U·(n + 1)): one gather serves them all
-        table = (tables[0] if len(tables) == 1 else np.concatenate(tables)).reshape(
-            4 * len(tables), -1
-        )
+        table = np.empty((8 if both else 4,) + pul.f.shape)
+        _cubic_steps(pul.f, pul.df, step, out=table[:4])
+        if both:
+            _cubic_steps(sol.tang.ft, sol.tang.dft, step, sol.tang.kink, out=table[4:])
+        table = table.reshape(table.shape[0], -1)
         h = step[k]
         s = tau / h
         j = s.astype(int)
@@ -936,18 +940,19 @@ class ForwardModel:
         res = self._true_forces(sol, tau, need_t, nderiv)
         fn, ft = res[0] * Fs[:, None], None if res[1] is None else res[1] * Fs[:, None]
         C = data.sensor.crosstalk
+        # which of gain_n, gain_t, leak, leak_tn differ anywhere from the axes' own values
+        moved = (P[:, _AXES] != _AXES_NONE).any(axis=0).tolist()
         # the axes as the forces are (no cross-talk, gains 1, leaks 0): nothing to mix
-        same = (
-            C is None
-            and (ft is not None or "Ft" not in names)
-            and not (P[:, _AXES] != _AXES_NONE).any()
-        )
-        mixed = [fn if n == "Fn" else ft for n in names] if same else self._mix(C, P, fn, ft, names)
+        same = C is None and (ft is not None or "Ft" not in names) and not any(moved)
+        unit = (not moved[0], not moved[1])  # gain_n, gain_t 1 in every column
+        if same:
+            mixed = [fn if n == "Fn" else ft for n in names]
+        else:
+            mixed = self._mix(C, P, fn, ft, names, unit)
         if not nderiv:
             return mixed, None
         b = slice(0, nderiv)
         Pb = P[b]
-        E, mass, radius = (Pb[:, _I[k]][:, None] for k in ("E_eff", "mass", "radius"))
         Tb, Fb, tb = T[b, None], Fs[b, None], tau[b]
         want = [a for a in analytic if a not in _MIXING]
         parts = {}
@@ -959,31 +964,34 @@ class ForwardModel:
             stretch = rate * tb  # the response to stretching the time scale
             # F = Fs·f((t − t0)/T) with Fs ∝ m*^{3/5} v0^{6/5} K^{2/5} and T ∝ m*^{2/5}
             # v0^{-1/5} K^{-2/5} (module notes), K ∝ E*·√R*; only the ones asked for
-            dlnK = 0.4 * (f[b] + stretch) if {"E_eff", "radius"} & set(want) else None
+            dlnK = 0.4 * (f[b] + stretch) if "E_eff" in want or "radius" in want else None
             part = {}
             for a in want:
                 if a == "E_eff":
-                    part[a] = dlnK / E
+                    part[a] = dlnK / Pb[:, _I["E_eff"], None]
                 elif a == "t0":
                     part[a] = -rate / Tb
                 elif a == "mass":
+                    mass = Pb[:, _I["mass"], None]
                     part[a] = (0.6 * f[b] - 0.4 * stretch) * (data.m_eff_of(mass) / mass) / mass
                 elif a == "radius":  # ∂ln R*/∂ln R = R*/R
+                    radius = Pb[:, _I["radius"], None]
                     part[a] = dlnK * 0.5 * (data.R_eff_of(radius) / radius) / radius
                 else:  # time_base
-                    part[a] = -stretch / (1.0 + Pb[:, _I["time_base"]][:, None])
+                    part[a] = -stretch / (1.0 + Pb[:, _I["time_base"], None])
             parts[key] = part
         out = []
         for name in names:
             der = np.empty((nderiv, len(analytic), tau.shape[1]))
             for i, a in enumerate(analytic):
                 if a in _MIXING:
-                    der[:, i] = self._dmix(data.sensor.crosstalk, Pb, fn[b], ft, name, a)
+                    der[:, i] = self._dmix(C, Pb, fn[b], ft, name, a)
                     continue
                 dn, dt = parts["n"][a], None if parts["t"] is None else parts["t"][a]
-                der[:, i] = (
-                    (dn if name == "Fn" else dt) if same else self._mix(C, Pb, dn, dt, [name])[0]
-                )
+                if same:
+                    der[:, i] = dn if name == "Fn" else dt
+                else:
+                    self._mix(C, Pb, dn, dt, [name], unit, out=der[:, i])
             out.append(der)
         return mixed, out
 
@@ -994,12 +1002,13 @@ class ForwardModel:
         (nderiv, len(analytic), n_c) array per channel."""
         names = [c.name for c in data.channels]
         chain = P[:, _CHAIN]  # (C, 4): bandwidth, fn, ζ, τ
-        bw, fn, tau = chain[:, 0], chain[:, 1], chain[:, 3]
-        dynamic = np.isfinite(fn) | np.isfinite(tau)
+        bw = chain[:, 0]
+        # whether any column states a bandwidth, a mode or a discharge (ζ aside)
+        finite = np.isfinite(chain).any(axis=0).tolist()
         shift = P[:, _SHIFT]
-        shifted = bool(shift.any())
+        shifted = bool(np.count_nonzero(shift))
         at, width = P[:, _I["shift_at"], None], P[:, _I["shift_width"], None]
-        if data.fine is None or not (np.isfinite(bw) | dynamic).any():
+        if data.fine is None or not (finite[0] or finite[1] or finite[3]):
             out, der = [], []
             for ch in data.channels:
                 m, d = self._forces(data, P, sol, ch.t, [ch.name], nderiv, analytic)
@@ -1019,10 +1028,10 @@ class ForwardModel:
         first = t0.min() if not shifted else min(t0.min(), float(np.min(at - 0.5 * width)))
         lo, hi = data.fine_span(first, (t0 + tc).max())
         step = fine[1] - fine[0] if fine.size > 1 else 1.0
-        plain = not dynamic.any()  # the low-pass alone: its rows grouped by bandwidth
+        plain = not (finite[1] or finite[3])  # the low-pass alone: rows grouped by bandwidth
         if plain:
-            row_bw = bw.tolist()
-            ring = data._ring_time(min(b for b in row_bw if math.isfinite(b)))
+            col_bw = bw.tolist()
+            ring = data._ring_time(min(b for b in col_bw if math.isfinite(b)))
         else:
             ring = max(data._ring_time(*row) for row in _distinct_rows(chain)[0].tolist())
         end = fine.size if shifted else min(fine.size, hi + int(math.ceil(ring / step)) + 1)
@@ -1031,7 +1040,7 @@ class ForwardModel:
         # rows: every channel's columns, then every channel's derivative rows; each row
         # keeps the bandwidth of its column
         rows = list(m) + ([x.reshape(-1, x.shape[-1]) for x in d] if nderiv else [])
-        n_rows = sum(x.shape[0] for x in rows)
+        n_rows = nch * (ncol + (nderiv * na if nderiv else 0))
         full = np.zeros((n_rows, end - lo))
         np.concatenate(rows, axis=0, out=full[:, : hi - lo])
         if shifted:  # a charge the crystal keeps: it passes the chain as the force does
@@ -1039,13 +1048,13 @@ class ForwardModel:
             for i, name in enumerate(names):
                 full[i * ncol : (i + 1) * ncol] += shift[:, 0 if name == "Fn" else 1, None] * ramp
         if plain:
-            row_bw = row_bw * nch + ([b for b in row_bw[:nderiv] for _ in range(na)] * nch)
-            groups = {}  # the rows of each bandwidth
-            for i, b in enumerate(row_bw):
-                groups.setdefault(b, []).append(i)
-            if len(groups) == 1:
-                filt = _sampled(data, step, row_bw[0], full, full.shape[1])
+            if len(set(col_bw)) == 1:  # every row at one bandwidth
+                filt = _sampled(data, step, col_bw[0], full, full.shape[1])
             else:
+                row_bw = col_bw * nch + ([b for b in col_bw[:nderiv] for _ in range(na)] * nch)
+                groups = {}  # the rows of each bandwidth
+                for i, b in enumerate(row_bw):
+                    groups.setdefault(b, []).append(i)
                 filt = np.empty((full.shape[0], full[:, :: data.oversample].shape[1]))
                 for b, rows_b in groups.items():
                     filt[rows_b] = _sampled(data, step, b, full[rows_b], full.shape[1])
@@ -1077,26 +1086,34 @@ class ForwardModel:
         return pred, der
 
     @staticmethod
-    def _mix(C, P, fn, ft, names):
+    def _mix(C, P, fn, ft, names, unit=(False, False), out=None):
         """The sensor's axes: gains, the known cross-talk matrix C (None: none) and the
         fitted leaks Fn → Ft and Ft → Fn, ``Ft_meas = g_t·(C10·Fn + C11·Ft + leak·Fn)``,
-        ``Fn_meas = g_n·(C00·Fn + C01·Ft + leak_tn·Ft)``."""
+        ``Fn_meas = g_n·(C00·Fn + C01·Ft + leak_tn·Ft)``. ``unit``: whether g_n, g_t are 1
+        in every column (a factor of 1, like a C00 or C11 of 1, is left out: x·1 is x to
+        the bit); ``out``: where to write the one name's forces."""
         Q = P[: fn.shape[0]]
-        out = []
+        res = []
         for n in names:
             if n == "Fn":
-                base = fn if C is None else C[0, 0] * fn
+                base = fn if C is None or C[0, 0] == 1.0 else C[0, 0] * fn
                 if ft is not None:
                     base = base + (Q[:, _I["leak_tn"], None] + (0.0 if C is None else C[0, 1])) * ft
-                out.append(Q[:, _I["gain_n"], None] * base)
+                gain = None if unit[0] else Q[:, _I["gain_n"], None]
             else:
                 base = Q[:, _I["leak"], None] * fn
                 if C is not None:
                     base = base + C[1, 0] * fn
                 if ft is not None:
-                    base = base + (ft if C is None else C[1, 1] * ft)
-                out.append(Q[:, _I["gain_t"], None] * base)
-        return out
+                    base = base + (ft if C is None or C[1, 1] == 1.0 else C[1, 1] * ft)
+                gain = None if unit[1] else Q[:, _I["gain_t"], None]
+            if out is None:
+                res.append(base if gain is None else gain * base)
+            elif gain is None:
+                out[...] = base
+            else:
+                np.multiply(gain, base, out=out)
+        return res
 
     @staticmethod
     def _dmix(C, P, fn, ft, name, which):
@@ -1200,16 +1217,18 @@ def _sampled(data, step, bandwidth, x, length):
     return x[:, :: data.oversample]
 
 
-def _cubic_steps(y, dy, step, kink=None):
+def _cubic_steps(y, dy, step, kink=None, out=None):
     """The cubic Hermite interpolant of node values ``y`` and rates ``dy`` (U, n + 1) on
     steps of ``step`` (U, 1), as each step's power series in θ = (τ − τ_j)/step ∈ [0, 1]:
     ``c0 + θ·(c1 + θ·(c2 + θ·c3))``, shape (4, U, n + 1) — the steps, then a zero one (the
     instants out of contact). Steps flagged in ``kink`` (U, n + 1: a stick/slide switch
-    inside) are linear between their nodes."""
+    inside) are linear between their nodes. ``out``: the array to fill (else a new one)."""
     y0, y1 = y[:, :-1], y[:, 1:]
-    a, b = step * dy[:, :-1], step * dy[:, 1:]
+    sd = step * dy
+    a, b = sd[:, :-1], sd[:, 1:]
     rise = y1 - y0
-    c = np.zeros((4,) + y.shape)
+    c = np.empty((4,) + y.shape) if out is None else out
+    c[:, :, -1] = 0.0
     c[0, :, :-1] = y0
     c[1, :, :-1] = a
     c[2, :, :-1] = 3.0 * rise - 2.0 * a - b

@@ -190,12 +190,22 @@ class PulseTable:
         return yn, w
 
     def __call__(self, e) -> NormalPulse:
-        e = _check_e(e)
+        return self.pulses(_check_e(e))
+
+    @functools.cached_property
+    def _node_set(self):
+        """The nodes in the grid variable as a set: whether an e is one, without an array
+        of comparisons."""
+        return frozenset(self._weights[0].tolist())
+
+    def pulses(self, e) -> NormalPulse:
+        """The pulses at restitutions ``e``, a float array within [:data:`E_MIN`, 1] (the
+        caller's check: :meth:`__call__` makes it)."""
         y = self._y(e)
         yn, w = self._weights
         d = y[:, None] - yn[None, :]
-        exact = d == 0
-        if exact.any():  # a node: its own values
+        if not self._node_set.isdisjoint(y.tolist()):  # a node: its own values
+            exact = d == 0
             hit = exact.any(axis=1)
             lw = w / np.where(exact, 1.0, d)
             lw[hit] = exact[hit].astype(float)
@@ -241,7 +251,11 @@ class PlasticPulses:
     n_steps: int
 
     def __call__(self, e) -> NormalPulse:
-        e = _check_e(e)
+        return self.pulses(_check_e(e))
+
+    def pulses(self, e) -> NormalPulse:
+        """The pulses at restitutions ``e``, a float array within [:data:`E_MIN`, 1] (the
+        caller's check: :meth:`__call__` makes it)."""
         imp = contact.plastic._impact(contact.calibrate_thornton(e))
         n = self.n_steps
         h = imp.tau_c[:, None] / n
