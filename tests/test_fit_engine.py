@@ -301,3 +301,80 @@ def test_kept_gain_is_the_pseudo_inverse_of_the_jacobian_where_it_was_taken():
 
 def _must_not_run(J):
     raise AssertionError("the pseudo-inverse was worked out again")
+
+
+def test_measured_axes_and_bandwidth_groups_are_the_sensor_formulas():
+    """The measured forces and their analytic derivatives (E*, t0) of the 15° record's
+    model (filtered: a linear map, so the axes mix before it as after it), under
+    cross-talk matrices with a unit diagonal and without, gains of 1 and not, leaks of 0
+    and not, against the sensor's formulas applied here to the model's forces on the true
+    axes (no cross-talk, gains 1, leaks 0):
+    Fn_meas = g_n·(C00·Fn + C01·Ft + leak_tn·Ft), Ft_meas = g_t·(C10·Fn + C11·Ft + leak·Fn),
+    to 1e-13 of each row's scale — an evaluation leaves out the factors that are exactly 1,
+    so a wrong one left out fails. Then the filtered model of columns at two bandwidths
+    (the rows grouped by bandwidth) against each column alone (one bandwidth for every
+    row), and the restitutions an evaluation refuses (> 1, NaN)."""
+    import dataclasses
+
+    from pipeline.errors import InputError
+    from pipeline.fit.forward import _I, ForwardModel, prepare
+
+    scene, rec = _record(15.0, seed=3)
+    data = prepare(rec, scene)
+    P0 = np.tile(data.nominal(), (2, 1))
+    P0[:, [_I["E_eff"], _I["e"], _I["mu"], _I["t0"]]] = [
+        float(scene.E_eff),
+        0.9,
+        0.131,
+        data.window.t_start,
+    ]
+    P0[1, _I["e"]] += 1e-3
+    model = ForwardModel()
+    analytic = ("E_eff", "t0")
+
+    def measured(d, P):
+        pred, der = model.predict(d, P, model.solve([d], [P])[0], 1, analytic)
+        return pred, [x[0] for x in der]  # (C, n) per channel; (2, n) per channel
+
+    plain = dataclasses.replace(data, sensor=dataclasses.replace(data.sensor, crosstalk=None))
+    (fn, ft), (dfn, dft) = measured(plain, P0)
+    unit_diag = np.array([[1.0, 0.004, -0.008], [-0.018, 1.0, 0.019], [0.004, 0.012, 1.0]])
+    general = np.array([[0.97, 0.004, -0.008], [-0.018, 1.03, 0.019], [0.004, 0.012, 1.0]])
+    for C in (None, unit_diag, general):
+        for gains, leaks in (
+            ((1.0, 1.0), (0.0, 0.0)),
+            ((1.0, 0.98), (0.003, 0.0)),
+            ((1.02, 1.0), (0.0, -0.002)),
+            ((0.99, 1.01), (0.003, -0.002)),
+        ):
+            P = P0.copy()
+            P[:, [_I["gain_n"], _I["gain_t"]]] = gains
+            P[:, [_I["leak"], _I["leak_tn"]]] = leaks
+            d = dataclasses.replace(data, sensor=dataclasses.replace(data.sensor, crosstalk=C))
+            (gn, gt), (dgn, dgt) = measured(d, P)
+            c = np.eye(2) if C is None else C[:2, :2]
+            # (Fn, Ft) measured = M·(Fn, Ft) true, M the formulas' matrix
+            M = np.array(
+                [
+                    [gains[0] * c[0, 0], gains[0] * (c[0, 1] + leaks[1])],
+                    [gains[1] * (c[1, 0] + leaks[0]), gains[1] * c[1, 1]],
+                ]
+            )
+            for i, got in enumerate(((gn, dgn), (gt, dgt))):
+                for g, (a, b) in zip(got, ((fn, ft), (dfn, dft)), strict=True):
+                    want = M[i, 0] * a + M[i, 1] * b
+                    scale = np.abs(want).max(axis=-1, keepdims=True)
+                    assert np.all(np.abs(g - want) <= 1e-13 * scale), (C, gains, leaks)
+
+    P = P0.copy()
+    P[1, _I["bandwidth"]] = 0.6 * P[0, _I["bandwidth"]]
+    both = model.predict(data, P, model.solve([data], [P])[0])
+    for k in range(2):
+        alone = model.predict(data, P[k : k + 1], model.solve([data], [P[k : k + 1]])[0])
+        for b, a in zip(both, alone, strict=True):
+            np.testing.assert_allclose(b[k], a[0], rtol=0, atol=1e-13 * np.abs(a).max())
+    for bad in (1.0 + 1e-9, np.nan):
+        P = P0.copy()
+        P[0, _I["e"]] = bad
+        with pytest.raises(InputError, match="restitution"):
+            model.solve([data], [P])
