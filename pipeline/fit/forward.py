@@ -209,14 +209,18 @@ class Channel:
             return r
         return r - (r @ self.basis) @ self.basis.T
 
-    def rows(self, r):
+    def rows(self, r, out=None):
         """The fit's residual rows of ``r`` (…, n) = (y − model)/σ: whitened by the
         channel's noise model (:mod:`pipeline.fit.noise`) and less their fitted baseline
-        (generalised least squares: the baseline basis whitened alike)."""
+        (generalised least squares: the baseline basis whitened alike); ``out``: where to
+        write them (else a new array, or ``r`` itself where there is nothing to do)."""
         w = self.noise.whiten(r)
         if self._wbasis is None:
-            return w
-        return w - (w @ self._wbasis) @ self._wbasis.T
+            if out is None:
+                return w
+            out[...] = w
+            return out
+        return np.subtract(w, (w @ self._wbasis) @ self._wbasis.T, out=out)
 
 
 @dataclass(frozen=True, eq=False)
@@ -747,14 +751,21 @@ def _weighted_with_derivatives(data: RecordData, pred, der):
     so each is what :func:`weighted_residuals` gives it alone)."""
     ncol = pred[0].shape[0]
     shape = der[0].shape[:-1]
-    parts = []
+    n_rows = ncol + der[0][..., 0].size
+    # the channels side by side: each writes its rows into its own columns
+    out = None if len(pred) == 1 else np.empty((n_rows, sum(m.shape[-1] for m in pred)))
+    start = 0
     for c, m, d in zip(data.channels, pred, der, strict=True):
-        r = np.empty((ncol + d[..., 0].size, m.shape[-1]))
+        n = m.shape[-1]
+        r = np.empty((n_rows, n))
         np.subtract(c.y, m, out=r[:ncol])
-        np.negative(d.reshape(-1, m.shape[-1]), out=r[ncol:])
+        np.negative(d.reshape(-1, n), out=r[ncol:])
         r /= c.sigma
-        parts.append(c.rows(r))
-    out = parts[0] if len(parts) == 1 else np.concatenate(parts, axis=-1)
+        if out is None:
+            out = c.rows(r)
+        else:
+            c.rows(r, out=out[:, start : start + n])
+        start += n
     return out[:ncol], out[ncol:].reshape(shape + (out.shape[-1],))
 
 
