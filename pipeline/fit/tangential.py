@@ -398,7 +398,8 @@ def _mindlin(pulse, s0, lam, mu, kc, history):
         # a row that moved on by next to nothing in two segments has stuck and slid in turn
         # without moving on
         st.stalled = st.t_a - seen[0] <= _STALL * pl.h
-        seen = np.stack([seen[1], st.t_a])
+        seen[0] = seen[1]
+        seen[1] = st.t_a
         sticking = st.mode == 0
         stick_rows = (st.active & sticking).nonzero()[0]
         slide_rows = (st.active & ~sticking).nonzero()[0]
