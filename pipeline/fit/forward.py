@@ -47,6 +47,7 @@ G. H. Golub, V. Pereyra, SIAM J. Numer. Anal. 10:413 (1973), doi:10.1137/0710036
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 import warnings
 from dataclasses import dataclass, field
@@ -144,9 +145,11 @@ UNITS = {
     "shift_width": "s",
 }
 _I = {name: i for i, name in enumerate(PARAMS)}
-#: The columns of :data:`CHAIN_PARAMS` and of the zero shift's sizes among :data:`PARAMS`.
-_CHAIN = np.array([_I[k] for k in CHAIN_PARAMS])
-_SHIFT = np.array([_I["shift_n"], _I["shift_t"]])
+#: The columns of :data:`CHAIN_PARAMS` and of the zero shift's sizes among :data:`PARAMS`
+#: (adjacent: slices, so that a model's columns of them are views).
+_CHAIN = slice(_I[CHAIN_PARAMS[0]], _I[CHAIN_PARAMS[0]] + len(CHAIN_PARAMS))
+_SHIFT = slice(_I["shift_n"], _I["shift_n"] + 2)
+assert PARAMS[_CHAIN] == CHAIN_PARAMS and PARAMS[_SHIFT] == ("shift_n", "shift_t")
 #: The analytic parameters that mix the axes (their derivatives: :meth:`ForwardModel._dmix`).
 _MIXING = ("gain_n", "gain_t", "leak", "leak_tn")
 #: Their columns among :data:`PARAMS` (adjacent), and their values where the axes do not mix.
@@ -877,7 +880,7 @@ class ForwardModel:
         if self.normal == "hertz" and (e != 1).any():
             normal_pulse(self.normal, e, self.n_steps)  # its InputError
         # e is checked (the table's own check and clip would change nothing)
-        pulse = pulse_table(self.normal, self.n_steps).pulses(e)
+        pulse = _pulse_table(self.normal, self.n_steps).pulses(e)
         tang = None
         if self.tangential != "none" and self.solver == "rk4":
             tang = _rk4_response(pulse, uniq, self.tangential, self.history)
@@ -920,10 +923,9 @@ class ForwardModel:
         s = tau / h
         j = s.astype(int)
         np.minimum(np.maximum(j, 0, out=j), n - 1, out=j)  # np.clip's checks cost more
-        th = s - j
-        away = ~((s >= 0) & (s <= n))  # out of contact (or no instant): the zero step
-        j[away] = n
-        th[away] = 0.0
+        inside = (s >= 0) & (s <= n)  # else out of contact (or no instant): the zero step
+        th = np.where(inside, s - j, 0.0)
+        j = np.where(inside, j, n)
         c = table.take(k[:, None] * (n + 1) + j, axis=1)  # (4·S, C, n)
         out, rates = [], []
         d = slice(0, nderiv)
@@ -1018,7 +1020,8 @@ class ForwardModel:
         finite = np.isfinite(chain).any(axis=0).tolist()
         shift = P[:, _SHIFT]
         shifted = bool(np.count_nonzero(shift))
-        at, width = P[:, _I["shift_at"], None], P[:, _I["shift_width"], None]
+        if shifted:
+            at, width = P[:, _I["shift_at"], None], P[:, _I["shift_width"], None]
         if data.fine is None or not (finite[0] or finite[1] or finite[3]):
             out, der = [], []
             for ch in data.channels:
@@ -1250,6 +1253,11 @@ def _cubic_steps(y, dy, step, kink=None, out=None):
         c[2, :, :-1][lin] = 0.0
         c[3, :, :-1][lin] = 0.0
     return c
+
+
+#: :func:`~pipeline.fit.pulse.pulse_table` kept per law and steps (its checks once, not at
+#: every evaluation)
+_pulse_table = functools.lru_cache(maxsize=64)(pulse_table)
 
 
 def _distinct_rows(a):
