@@ -175,6 +175,21 @@ def test_forces_between_the_nodes_are_the_hermite_cubic():
             assert np.all(arr[c, [0, 1, -2, -1]] == 0.0)
 
 
+def _columns(data, scene, n):
+    """``n`` columns of the 15° record's local parameters: the scene's E*, e = 0.9,
+    μ = 0.131 and the window's start as t0, the rest as stated."""
+    from pipeline.fit.forward import _I
+
+    P = np.tile(data.nominal(), (n, 1))
+    P[:, [_I["E_eff"], _I["e"], _I["mu"], _I["t0"]]] = [
+        float(scene.E_eff),
+        0.9,
+        0.131,
+        data.window.t_start,
+    ]
+    return P
+
+
 def test_one_pass_weighting_and_kept_filters_are_the_plain_ones():
     """What an evaluation keeps or fuses gives the numbers of the plain computation. The
     residuals and their derivatives weighted in one pass (each channel's rows stacked,
@@ -207,13 +222,7 @@ def test_one_pass_weighting_and_kept_filters_are_the_plain_ones():
         data, channels=tuple(dataclasses.replace(c, noise=ar) for c in data.channels)
     )
     assert data.n_nuisance == 4 and data.sensor.filtered
-    P = np.tile(data.nominal(), (3, 1))
-    P[:, [_I["E_eff"], _I["e"], _I["mu"], _I["t0"]]] = [
-        float(scene.E_eff),
-        0.9,
-        0.131,
-        data.window.t_start,
-    ]
+    P = _columns(data, scene, 3)
     P[1, _I["e"]] += 1e-6
     P[2, _I["mu"]] += 1e-6
     model = ForwardModel()
@@ -321,13 +330,7 @@ def test_measured_axes_and_bandwidth_groups_are_the_sensor_formulas():
 
     scene, rec = _record(15.0, seed=3)
     data = prepare(rec, scene)
-    P0 = np.tile(data.nominal(), (2, 1))
-    P0[:, [_I["E_eff"], _I["e"], _I["mu"], _I["t0"]]] = [
-        float(scene.E_eff),
-        0.9,
-        0.131,
-        data.window.t_start,
-    ]
+    P0 = _columns(data, scene, 2)
     P0[1, _I["e"]] += 1e-3
     model = ForwardModel()
     analytic = ("E_eff", "t0")
