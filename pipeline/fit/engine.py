@@ -139,7 +139,7 @@ class Problem:
         active = [np.flatnonzero(np.any(D != 0, axis=(0, 2))) for D in dP]
         sels = [_selection(D) for D in dP]
         sels = [
-            None if sel is None else np.searchsorted(act, sel)
+            None if sel is None else _gather(np.searchsorted(act, sel), len(act))
             for sel, act in zip(sels, active, strict=True)
         ]
         out = (dP, active, sels)
@@ -205,6 +205,12 @@ class Problem:
         last = self._last
         if gain is not None and last is not None and (last[0] == np.asarray(theta)).all():
             self._last = last[:4] + (gain,)
+
+
+def _gather(sel, n_active):
+    """``sel`` as an index of the ``n_active`` active parameters: a slice of all of them
+    where it picks each in order (a view of the derivatives, not a copy)."""
+    return slice(None) if np.array_equal(sel, np.arange(n_active)) else sel
 
 
 def _selection(D):
