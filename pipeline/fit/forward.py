@@ -320,6 +320,15 @@ class RecordData:
             out = self._remember(key, (sos[0, :3], sos[0, 3:]) if sos.shape[0] == 1 else sos)
         return out
 
+    def _static(self, P) -> _Static:
+        """:class:`_Static` of the model's columns P (C, len(PARAMS)), kept per the values
+        of their columns from ``mass`` on (a fit seldom moves them)."""
+        key = ("static", P.shape[0], P[:, _STATIC].tobytes())
+        out = self._memo.get(key)
+        if out is None:
+            out = self._remember(key, _Static.of(self, P))
+        return out
+
     def _remember(self, key, value):
         if len(self._memo) >= 256:  # a fitted bandwidth asks for new ones at every step
             self._memo.clear()
@@ -395,6 +404,47 @@ class RecordData:
         """The weighted data, channels concatenated (y/σ, whitened, each less its fitted
         baseline: :meth:`Channel.rows`)."""
         return np.concatenate([c.rows(c.y / c.sigma) for c in self.channels])
+
+
+#: The columns of :data:`PARAMS` that :class:`_Static` depends on: mass on, every one after
+#: the contact's own and the onset.
+_STATIC = slice(_I["mass"], len(PARAMS))
+
+
+@dataclass(frozen=True, eq=False)
+class _Static:
+    """What the forward model works out per evaluation from the columns of P that a fit
+    seldom moves (:data:`_STATIC`): kept by :meth:`RecordData._static` (internal; the
+    arrays are shared, never written).
+
+    m_eff, sqrt_R, stretch : (C,) m* [kg], √R* [√m] and 1 + ``time_base`` of each column;
+    finite : any column's bandwidth, resonance, ζ, discharge finite (4 bools); shifted :
+    any zero shift; moved : any column's gain_n, gain_t, leak, leak_tn other than the
+    axes' own (4 bools); bandwidths : the columns' bandwidths (list), one : all one
+    """
+
+    m_eff: np.ndarray
+    sqrt_R: np.ndarray
+    stretch: np.ndarray
+    finite: list
+    shifted: bool
+    moved: list
+    bandwidths: list
+    one: bool
+
+    @classmethod
+    def of(cls, data: RecordData, P) -> _Static:
+        bandwidths = P[:, _I["bandwidth"]].tolist()
+        return cls(
+            m_eff=data.m_eff_of(P[:, _I["mass"]]),
+            sqrt_R=np.sqrt(data.R_eff_of(P[:, _I["radius"]])),
+            stretch=1.0 + P[:, _I["time_base"]],
+            finite=np.isfinite(P[:, _CHAIN]).any(axis=0).tolist(),
+            shifted=bool(np.count_nonzero(P[:, _SHIFT])),
+            moved=(P[:, _AXES] != _AXES_NONE).any(axis=0).tolist(),
+            bandwidths=bandwidths,
+            one=len(set(bandwidths)) == 1,
+        )
 
 
 def param_scales(data: RecordData) -> np.ndarray:
@@ -837,12 +887,13 @@ class ForwardModel:
         each column's E*, speed, mass and radius; the time scale as the record's clock
         reads it, stretched by 1 + ``time_base``)."""
         E, v = P[:, _I["E_eff"]], P[:, _I["speed"]]
-        m = data.m_eff_of(P[:, _I["mass"]])
+        st = data._static(P)
+        m = st.m_eff
         v0 = v * data.cos_a
-        K = 4.0 / 3.0 * E * np.sqrt(data.R_eff_of(P[:, _I["radius"]]))
+        K = 4.0 / 3.0 * E * st.sqrt_R
         mvv = m * v0 * v0
         ds = (mvv / K) ** 0.4
-        return ds, ds / v0 * (1.0 + P[:, _I["time_base"]]), mvv / ds, v0
+        return ds, ds / v0 * st.stretch, mvv / ds, v0
 
     # -------------------------------------------------------------- solve
     def solve(self, datas, Ps) -> list:
@@ -954,7 +1005,7 @@ class ForwardModel:
         fn, ft = res[0] * Fs[:, None], None if res[1] is None else res[1] * Fs[:, None]
         C = data.sensor.crosstalk
         # which of gain_n, gain_t, leak, leak_tn differ anywhere from the axes' own values
-        moved = (P[:, _AXES] != _AXES_NONE).any(axis=0).tolist()
+        moved = data._static(P).moved
         # the axes as the forces are (no cross-talk, gains 1, leaks 0): nothing to mix
         same = C is None and (ft is not None or "Ft" not in names) and not any(moved)
         unit = (not moved[0], not moved[1])  # gain_n, gain_t 1 in every column
@@ -1015,11 +1066,11 @@ class ForwardModel:
         (nderiv, len(analytic), n_c) array per channel."""
         names = [c.name for c in data.channels]
         chain = P[:, _CHAIN]  # (C, 4): bandwidth, fn, ζ, τ
-        bw = chain[:, 0]
+        static = data._static(P)
         # whether any column states a bandwidth, a mode or a discharge (ζ aside)
-        finite = np.isfinite(chain).any(axis=0).tolist()
+        finite = static.finite
         shift = P[:, _SHIFT]
-        shifted = bool(np.count_nonzero(shift))
+        shifted = static.shifted
         if shifted:
             at, width = P[:, _I["shift_at"], None], P[:, _I["shift_width"], None]
         if data.fine is None or not (finite[0] or finite[1] or finite[3]):
@@ -1044,7 +1095,7 @@ class ForwardModel:
         step = fine[1] - fine[0] if fine.size > 1 else 1.0
         plain = not (finite[1] or finite[3])  # the low-pass alone: rows grouped by bandwidth
         if plain:
-            col_bw = bw.tolist()
+            col_bw = static.bandwidths
             ring = data._ring_time(min(b for b in col_bw if math.isfinite(b)))
         else:
             ring = max(data._ring_time(*row) for row in _distinct_rows(chain)[0].tolist())
@@ -1062,7 +1113,7 @@ class ForwardModel:
             for i, name in enumerate(names):
                 full[i * ncol : (i + 1) * ncol] += shift[:, 0 if name == "Fn" else 1, None] * ramp
         if plain:
-            if len(set(col_bw)) == 1:  # every row at one bandwidth
+            if static.one:  # every row at one bandwidth
                 filt = _sampled(data, step, col_bw[0], full, full.shape[1])
             else:
                 row_bw = col_bw * nch + ([b for b in col_bw[:nderiv] for _ in range(na)] * nch)
