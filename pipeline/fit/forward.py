@@ -420,7 +420,10 @@ class _Static:
     m_eff, sqrt_R, stretch : (C,) m* [kg], √R* [√m] and 1 + ``time_base`` of each column;
     finite : any column's bandwidth, resonance, ζ, discharge finite (4 bools); shifted :
     any zero shift; moved : any column's gain_n, gain_t, leak, leak_tn other than the
-    axes' own (4 bools); bandwidths : the columns' bandwidths (list), one : all one
+    axes' own (4 bools); bandwidths : the columns' bandwidths (list), one : all one;
+    lam : (C,) m*/m_t; ring : the time the chain's ringing takes to decay [s]
+    (:meth:`RecordData._ring_time`: the slowest column's; None without a fine grid or a
+    chain)
     """
 
     m_eff: np.ndarray
@@ -431,19 +434,31 @@ class _Static:
     moved: list
     bandwidths: list
     one: bool
+    lam: np.ndarray
+    ring: float | None
 
     @classmethod
     def of(cls, data: RecordData, P) -> _Static:
         bandwidths = P[:, _I["bandwidth"]].tolist()
+        finite = np.isfinite(P[:, _CHAIN]).any(axis=0).tolist()
+        ring = None
+        if data.fine is None:
+            pass
+        elif finite[1] or finite[3]:  # a mode or a discharge: each column's whole chain
+            ring = max(data._ring_time(*row) for row in _distinct_rows(P[:, _CHAIN])[0].tolist())
+        elif finite[0]:  # the low-pass alone: the lowest bandwidth rings longest
+            ring = data._ring_time(min(b for b in bandwidths if math.isfinite(b)))
         return cls(
             m_eff=data.m_eff_of(P[:, _I["mass"]]),
             sqrt_R=np.sqrt(data.R_eff_of(P[:, _I["radius"]])),
             stretch=1.0 + P[:, _I["time_base"]],
-            finite=np.isfinite(P[:, _CHAIN]).any(axis=0).tolist(),
+            finite=finite,
             shifted=bool(np.count_nonzero(P[:, _SHIFT])),
             moved=(P[:, _AXES] != _AXES_NONE).any(axis=0).tolist(),
             bandwidths=bandwidths,
             one=len(set(bandwidths)) == 1,
+            lam=data.lam_of(P[:, _I["mass"]]),
+            ring=ring,
         )
 
 
@@ -907,20 +922,14 @@ class ForwardModel:
             if self.tangential == "none":  # the normal pulse depends on e alone
                 rows.append(P[:, _I["e"], None])
                 continue
-            e = P[:, _I["e"]]
             v0 = P[:, _I["speed"]] * d.cos_a
-            s0 = np.abs(d.slip0(P[:, _I["speed"]])) / v0
-            rows.append(
-                np.column_stack(
-                    [
-                        e,
-                        P[:, _I["mu"]],
-                        6.0 * d.g_ratio * P[:, _I["kt_scale"]],
-                        s0,
-                        d.lam_of(P[:, _I["mass"]]) * np.ones(e.size),
-                    ]
-                )
-            )
+            row = np.empty((P.shape[0], 5))  # e, μ, kc, s0, λ
+            row[:, 0] = P[:, _I["e"]]
+            row[:, 1] = P[:, _I["mu"]]
+            row[:, 2] = 6.0 * d.g_ratio * P[:, _I["kt_scale"]]
+            row[:, 3] = np.abs(d.slip0(P[:, _I["speed"]])) / v0
+            row[:, 4] = d._static(P).lam
+            rows.append(row)
         allrows = np.concatenate(rows)
         if self.tangential == "coulomb":
             allrows[:, 2] = 0.0
@@ -1094,12 +1103,8 @@ class ForwardModel:
         lo, hi = data.fine_span(first, (t0 + tc).max())
         step = fine[1] - fine[0] if fine.size > 1 else 1.0
         plain = not (finite[1] or finite[3])  # the low-pass alone: rows grouped by bandwidth
-        if plain:
-            col_bw = static.bandwidths
-            ring = data._ring_time(min(b for b in col_bw if math.isfinite(b)))
-        else:
-            ring = max(data._ring_time(*row) for row in _distinct_rows(chain)[0].tolist())
-        end = fine.size if shifted else min(fine.size, hi + int(math.ceil(ring / step)) + 1)
+        col_bw = static.bandwidths
+        end = fine.size if shifted else min(fine.size, hi + int(math.ceil(static.ring / step)) + 1)
         m, d = self._forces(data, P, sol, fine[lo:hi], names, nderiv, analytic, (ds, T, Fs, v0))
         ncol, nch, na = P.shape[0], len(names), len(analytic)
         # rows: every channel's columns, then every channel's derivative rows; each row
