@@ -278,14 +278,14 @@ def local_derivatives(model, datas, Ps, active):
     analytic = [plan[1] for plan in plans]
     res, sols, ders = model.residuals(datas, cols, nderiv=[B] * len(cols), analytic=analytic)
     out_r, out_D = [], []
-    for r, st, der, (_, an, n_act, fd_at, an_at) in zip(res, steps, ders, plans, strict=True):
+    for r, st, der, (*_, n_act, fd_at, an_at) in zip(res, steps, ders, plans, strict=True):
         base = r[:B]
         D = np.empty((B, n_act, r.shape[1]))
         for j, i in enumerate(fd_at):  # forward differences, column by column
             np.subtract(r[B * (j + 1) : B * (j + 2)], base, out=D[:, i])
             D[:, i] /= st[:, j, None]
-        if an:
-            D[:, an_at] = der
+        for dst, src in an_at:  # the analytic ones, in runs of adjacent places
+            D[:, dst] = der[:, src]
         out_r.append(base)
         out_D.append(D)
     return out_r, out_D, [None if s is None else s.head(B) for s in sols]
@@ -298,14 +298,19 @@ _E, _MU = _P["e"], _P["mu"]
 def _plan(act):
     """How :func:`local_derivatives` differentiates with respect to the local parameters
     ``act`` (a sorted tuple of indices into PARAMS), the same at every call: those by
-    differences, the analytic ones' names, how many, and the places of each kind among
-    ``act`` (the analytic ones' as a slice where they are adjacent)."""
+    differences, the analytic ones' names, how many, the places of those by differences
+    among ``act``, and the analytic ones' as runs of adjacent places (slices of D and of
+    the model's derivatives: copies of blocks, not gathers)."""
     fd = tuple(l for l in act if PARAMS[l] not in ANALYTIC)
     an = tuple(PARAMS[l] for l in act if PARAMS[l] in ANALYTIC)
     place = {l: i for i, l in enumerate(act)}
-    an_at = [place[_P[a]] for a in an]
-    if an_at and an_at == list(range(an_at[0], an_at[-1] + 1)):
-        an_at = slice(an_at[0], an_at[-1] + 1)
+    runs = []  # [first place in D, first analytic, how many]
+    for i, a in enumerate(an):
+        if runs and runs[-1][0] + runs[-1][2] == place[_P[a]]:
+            runs[-1][2] += 1
+        else:
+            runs.append([place[_P[a]], i, 1])
+    an_at = tuple((slice(d, d + k), slice(i, i + k)) for d, i, k in runs)
     return fd, an, len(place), tuple(place[l] for l in fd), an_at
 
 
