@@ -901,8 +901,12 @@ class ForwardModel:
         """δ* [m], time scale δ*/v0 [s], force scale m*·v0²/δ* [N], v0 [m/s] per column (at
         each column's E*, speed, mass and radius; the time scale as the record's clock
         reads it, stretched by 1 + ``time_base``)."""
+        return self._scales(data, P, data._static(P))
+
+    @staticmethod
+    def _scales(data, P, st):
+        """:meth:`scales` with the columns' :class:`_Static` ``st``."""
         E, v = P[:, _I["E_eff"]], P[:, _I["speed"]]
-        st = data._static(P)
         m = st.m_eff
         v0 = v * data.cos_a
         K = 4.0 / 3.0 * E * st.sqrt_R
@@ -1001,12 +1005,14 @@ class ForwardModel:
             rates.append(None)
         return (out[0], out[1], rates[0], rates[1]) if nderiv else (out[0], out[1])
 
-    def _forces(self, data, P, sol, t, names, nderiv, analytic=ANALYTIC, scales=None):
+    def _forces(self, data, P, sol, t, names, nderiv, analytic=ANALYTIC, scales=None, static=None):
         """Measured-axis forces at instants ``t`` (before the filter), one (C, n) array per
         name, and for the first ``nderiv`` columns their derivatives with respect to the
         ``analytic`` parameters (of :data:`ANALYTIC`), one (nderiv, len(analytic), n) array
-        per name; ``scales``: :meth:`scales` of ``P`` where already computed."""
-        ds, T, Fs, v0 = self.scales(data, P) if scales is None else scales
+        per name; ``scales``, ``static``: :meth:`scales` and the :class:`_Static` of ``P``
+        where already worked out."""
+        static = data._static(P) if static is None else static
+        ds, T, Fs, v0 = self._scales(data, P, static) if scales is None else scales
         t0 = P[:, _I["t0"]][:, None]
         tau = (t[None, :] - t0) / T[:, None]
         need_t = "Ft" in names or (data.sensor.crosstalk is not None and self.tangential != "none")
@@ -1014,7 +1020,7 @@ class ForwardModel:
         fn, ft = res[0] * Fs[:, None], None if res[1] is None else res[1] * Fs[:, None]
         C = data.sensor.crosstalk
         # which of gain_n, gain_t, leak, leak_tn differ anywhere from the axes' own values
-        moved = data._static(P).moved
+        moved = static.moved
         # the axes as the forces are (no cross-talk, gains 1, leaks 0): nothing to mix
         same = C is None and (ft is not None or "Ft" not in names) and not any(moved)
         unit = (not moved[0], not moved[1])  # gain_n, gain_t 1 in every column
@@ -1085,7 +1091,7 @@ class ForwardModel:
         if data.fine is None or not (finite[0] or finite[1] or finite[3]):
             out, der = [], []
             for ch in data.channels:
-                m, d = self._forces(data, P, sol, ch.t, [ch.name], nderiv, analytic)
+                m, d = self._forces(data, P, sol, ch.t, [ch.name], nderiv, analytic, static=static)
                 if shifted:
                     k = 0 if ch.name == "Fn" else 1
                     m[0] = m[0] + shift[:, k, None] * zero_shift(ch.t[None, :], at, width)
@@ -1095,7 +1101,7 @@ class ForwardModel:
         # the forces vanish outside the contact: evaluate from the earliest onset to the
         # latest end of any column, and filter on until the filter's ringing has decayed
         # below 1e-16 (after that the record is the model's exact zero)
-        ds, T, Fs, v0 = self.scales(data, P)
+        ds, T, Fs, v0 = self._scales(data, P, static)
         t0 = P[:, _I["t0"]]
         tc = sol.pulse.tau_c[sol.index] * T
         fine = data.fine
@@ -1105,7 +1111,9 @@ class ForwardModel:
         plain = not (finite[1] or finite[3])  # the low-pass alone: rows grouped by bandwidth
         col_bw = static.bandwidths
         end = fine.size if shifted else min(fine.size, hi + int(math.ceil(static.ring / step)) + 1)
-        m, d = self._forces(data, P, sol, fine[lo:hi], names, nderiv, analytic, (ds, T, Fs, v0))
+        m, d = self._forces(
+            data, P, sol, fine[lo:hi], names, nderiv, analytic, (ds, T, Fs, v0), static
+        )
         ncol, nch, na = P.shape[0], len(names), len(analytic)
         # rows: every channel's columns, then every channel's derivative rows; each row
         # keeps the bandwidth of its column
