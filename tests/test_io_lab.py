@@ -723,23 +723,29 @@ def _v5_elements(raw: bytes, start: int, end: int):
     return out
 
 
-@pytest.mark.parametrize("damage", ["type", "size", "dims"])
+@pytest.mark.parametrize("damage", ["type", "size", "dims", "text_type"])
 def test_mat_v5_tags_that_contradict_the_file_are_refused_not_a_crash(tmp_path, damage):
     """A v5 file whose one byte of a data element's tag is damaged — the real part's data
-    type made one no MAT-file has, its byte count doubled, or its array's dimensions
-    grown — is refused with an InputError naming it. SciPy's reader trusts the tags, and the
-    first of these crashed the process (a segmentation fault), so each read runs in a
-    process of its own here."""
+    type made one no MAT-file has, its byte count doubled, its array's dimensions grown, or
+    a char array's text given a type no MAT-file has — is refused with an InputError naming
+    it. SciPy's reader trusts the tags, and the first and the last of these crashed the
+    process (a segmentation fault; the last now and then, as the memory past its data lay),
+    so each read runs in a process of its own here."""
     import subprocess
     import sys
 
     raw = bytearray((SAMPLES / "sensor_v5.mat").read_bytes())
-    matrix = _v5_elements(raw, 128, len(raw))[-2]  # the last numeric vector
+    arrays = _v5_elements(raw, 128, len(raw))
+    matrix = arrays[-2]  # the last numeric vector
     assert matrix[0] == 14  # miMATRIX: the precondition
     flags, dims, name, real = _v5_elements(raw, matrix[1], matrix[1] + matrix[2])[:4]
     assert real[0] in (7, 9) and real[2] > 16  # single or double data
     if damage == "type":
         raw[real[1] - 8] = 230
+    elif damage == "text_type":  # the last array: the operator's name, text in UTF-8
+        text = _v5_elements(raw, arrays[-1][1], arrays[-1][1] + arrays[-1][2])[3]
+        assert arrays[-1][0] == 14 and text[0] == 16  # miUTF8: the precondition
+        raw[text[1] - 7] = 0x9A  # type 16 → 0x9A10, which scipy read past its data
     elif damage == "size":
         raw[real[1] - 4 : real[1]] = (2 * real[2]).to_bytes(4, "little")
     else:
@@ -753,6 +759,8 @@ def test_mat_v5_tags_that_contradict_the_file_are_refused_not_a_crash(tmp_path, 
     out = subprocess.run([sys.executable, "-c", code, str(p)], capture_output=True, text=True)
     assert out.returncode == 0, out.stderr[-2000:]
     assert "damaged.mat" in out.stdout and "cannot read this MATLAB file" in out.stdout, out
+    if damage == "text_type":  # refused by the tag check, before scipy reads past the data
+        assert "a data element's type is one no MAT-file has" in out.stdout, out
 
 
 def test_mat_v5_check_refuses_none_of_scipys_own_readable_files():

@@ -137,7 +137,8 @@ _V5_NUMERIC = range(6, 16)
 def _check_v5(raw: bytes, p) -> None:
     """Refuse a v5 MAT-file whose data element tags contradict each other or the file's
     size: an element running past its container, a numeric array whose data do not hold
-    the elements its dimensions count, a data type no MAT-file has. SciPy's reader trusts
+    the elements its dimensions count, a data type no MAT-file has (in any array: its
+    name, a char array's text, a struct's field names). SciPy's reader trusts
     the tags, and on such a file (one flipped byte of a type code suffices) it can crash
     the process instead of raising. Compressed elements are left to zlib, whose checksum
     catches their damage. The layout is MathWorks' "MAT-File Format" (v5, Chapter 1)."""
@@ -198,6 +199,10 @@ def _check_v5(raw: bytes, p) -> None:
         elif cls == 1:  # a cell array: one array per cell
             if len(rest) != count or any(kind != _MI_MATRIX for kind, _, _ in rest):
                 bad("a cell array's cells do not match its dimensions", at)
+        # every other part (a name, text, a struct's field names, a sparse array's indices)
+        # is numbers or text: scipy reads an unknown type's data with no known item size
+        if any(kind != _MI_MATRIX and kind not in _V5_ITEM for kind, _, _ in parts[2:]):
+            bad("a data element's type is one no MAT-file has", at)
         for kind, data, size in rest:
             if kind == _MI_MATRIX:
                 matrix(data, size, data - 8)
