@@ -383,6 +383,71 @@ def test_measured_axes_and_bandwidth_groups_are_the_sensor_formulas():
             model.solve([data], [P])
 
 
+def test_ft_to_fn_leak_reaches_fn_with_and_without_a_modelled_filter():
+    """The Ft → Fn leak (Fn_meas = g_n·(Fn + leak_tn·Ft), the sensor's formula) on the 15°
+    record, its filter modelled and not (an infinite bandwidth: each channel's model at its
+    own instants): Fn with leak_tn = 0.01 less Fn with none is 0.01·g_n·Ft, and Fn's
+    derivative with respect to leak_tn is g_n·Ft at leak_tn = 0 (where a fit starts it),
+    Ft the model's own at the same instants on the true axes, to 1e-13 of its peak. Without
+    the filter the leak once moved Fn by nothing, and its derivative was zero: the fit could
+    not see a leak the record showed."""
+    import dataclasses
+
+    from pipeline.fit.forward import _I, ForwardModel, prepare
+
+    scene, rec = _record(15.0, seed=3)
+    data = prepare(rec, scene)
+    data = dataclasses.replace(data, sensor=dataclasses.replace(data.sensor, crosstalk=None))
+    assert [c.name for c in data.channels] == ["Fn", "Ft"]
+    assert np.array_equal(data.channels[0].t, data.channels[1].t)  # one clock: precondition
+    model = ForwardModel()
+    for bandwidth in (None, np.inf):
+        P = _columns(data, scene, 1)
+        P[:, _I["gain_n"]] = 1.02
+        if bandwidth is not None:
+            P[:, _I["bandwidth"]] = bandwidth
+        sol = model.solve([data], [P])[0]
+        (fn0, ft), (dfn, _) = model.predict(data, P, sol, 1, ("leak_tn",))
+        P1 = P.copy()
+        P1[:, _I["leak_tn"]] = 0.01
+        fn1 = model.predict(data, P1, model.solve([data], [P1])[0])[0]
+        scale = np.abs(ft).max()
+        assert scale > 0.05 * np.abs(fn0).max()  # an Ft to leak: precondition
+        tol = 1e-13 * max(scale, np.abs(fn0).max())
+        np.testing.assert_allclose(fn1 - fn0, 0.01 * 1.02 * ft, rtol=0, atol=tol)
+        np.testing.assert_allclose(dfn[0, 0], 1.02 * ft[0], rtol=0, atol=tol)
+
+
+def test_an_ft_to_fn_leak_the_record_shows_is_fitted_without_a_modelled_filter():
+    """A 15° record whose Fn carries 3 % of Ft (C01 = 0.03 of to_sensor's mixing matrix,
+    the matrix not stated to the fit), with no filter (bandwidth inf: each channel's model
+    at its own instants), fitted with a cross-talk uncertainty of 0.05: leak_tn comes out
+    within 3 standard errors of 0.03, with a standard error well below the stated 0.05 (the
+    record, not the prior, bounds it). The leak once never reached Fn there: leak_tn stayed
+    at 0 ± 0.05 and E* took up the misfit."""
+    scene = Scene(**GR, speed=0.6, angle_deg=15.0, mu=0.131, e=0.9)
+    ideal = impact(scene, normal="hunt_crossley", tangential="mindlin", samples=2001)
+    C = np.eye(3)
+    C[0, 1] = 0.03
+    rec = to_sensor(
+        ideal,
+        noise=0.004 * ideal.attrs["F_max"],
+        rate=2e6,
+        bandwidth=np.inf,
+        crosstalk=C,
+        pre_trigger=4e-4,
+        post_trigger=5e-4,
+        seed=1,
+    )
+    del rec.attrs["sensor_crosstalk_matrix"]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", PipelineWarning)
+        fit = fit_contact(rec, scene, systematics={"crosstalk": 0.05}, diagnose=False, n_boot=0)
+    value, se = fit.values["leak_tn"], fit.stderr["leak_tn"]
+    assert se < 0.02
+    assert abs(value - 0.03) < 3 * se, (value, se)
+
+
 def test_kept_parts_follow_the_columns_they_are_kept_for():
     """What an evaluation keeps per the values of the columns a fit seldom moves (mass,
     radius, time base, gains, bandwidth: RecordData._static) follows them: after the

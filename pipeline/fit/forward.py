@@ -1015,7 +1015,16 @@ class ForwardModel:
         ds, T, Fs, v0 = self._scales(data, P, static) if scales is None else scales
         t0 = P[:, _I["t0"]][:, None]
         tau = (t[None, :] - t0) / T[:, None]
-        need_t = "Ft" in names or (data.sensor.crosstalk is not None and self.tangential != "none")
+        # Ft is asked for, or reaches Fn: through the cross-talk matrix or the Ft → Fn leak
+        # (where a column moves it, or its derivative is asked for: at a leak of 0 too)
+        need_t = "Ft" in names or (
+            self.tangential != "none"
+            and (
+                data.sensor.crosstalk is not None
+                or static.moved[3]
+                or (nderiv > 0 and "leak_tn" in analytic)
+            )
+        )
         res = self._true_forces(sol, tau, need_t, nderiv)
         fn, ft = res[0] * Fs[:, None], None if res[1] is None else res[1] * Fs[:, None]
         C = data.sensor.crosstalk
