@@ -322,7 +322,7 @@ def test_measured_axes_and_bandwidth_groups_are_the_sensor_formulas():
     to 1e-13 of each row's scale — an evaluation leaves out the factors that are exactly 1,
     so a wrong one left out fails. Then the filtered model of columns at two bandwidths
     (the rows grouped by bandwidth) against each column alone (one bandwidth for every
-    row), and the restitutions an evaluation refuses (> 1, NaN)."""
+    row), and the restitutions an evaluation refuses (> 1, NaN; below 1 for Hertz's law)."""
     import dataclasses
 
     from pipeline.errors import InputError
@@ -381,6 +381,8 @@ def test_measured_axes_and_bandwidth_groups_are_the_sensor_formulas():
         P[0, _I["e"]] = bad
         with pytest.raises(InputError, match="restitution"):
             model.solve([data], [P])
+    with pytest.raises(InputError, match="only has e = 1"):  # the elastic law: e = 0.9
+        ForwardModel("hertz").solve([data], [P0])
 
 
 def test_ft_to_fn_leak_reaches_fn_with_and_without_a_modelled_filter():

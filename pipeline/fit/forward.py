@@ -62,7 +62,7 @@ from ..simulate import tangential_history
 from ..smooth import noise_level
 from ..window import find_contact, mad_sigma
 from .noise import WHITE, NoiseModel, measure_noise
-from .pulse import E_MIN, normal_pulse, pulse_table, shape_of
+from .pulse import E_MIN, check_elastic, pulse_table, shape_of
 from .sensor import SensorSpec, sensor_spec
 from .tangential import HISTORY_RULES, TANGENTIAL_MODELS, TangentialResponse, tangential_response
 
@@ -941,8 +941,7 @@ class ForwardModel:
         e = uniq[:, 0]
         if not all(E_MIN <= x <= 1.0 for x in e.tolist()):  # NaN fails both
             raise InputError(f"restitution outside [{E_MIN}, 1]: {e[(e < E_MIN) | (e > 1)]}")
-        if self.normal == "hertz" and (e != 1).any():
-            normal_pulse(self.normal, e, self.n_steps)  # its InputError
+        check_elastic(self.normal, e)
         # e is checked (the table's own check and clip would change nothing)
         pulse = _pulse_table(self.normal, self.n_steps).pulses(e)
         tang = None

@@ -404,6 +404,11 @@ def normal_pulse(law: str, e, n_steps: int = 256) -> NormalPulse:
     -------
     NormalPulse
     """
+    check_elastic(law, e)
+    return pulse_table(law, n_steps)(e)
+
+
+def check_elastic(law: str, e) -> None:
+    """Refuse a restitution ``e`` below 1 for the elastic ``"hertz"`` law (InputError)."""
     if law == "hertz" and np.any(np.asarray(e) != 1):
         raise InputError("the elastic 'hertz' law only has e = 1; choose a damped law")
-    return pulse_table(law, n_steps)(e)
