@@ -47,7 +47,6 @@ G. H. Golub, V. Pereyra, SIAM J. Numer. Anal. 10:413 (1973), doi:10.1137/0710036
 from __future__ import annotations
 
 import dataclasses
-import functools
 import math
 import warnings
 from dataclasses import dataclass, field
@@ -943,7 +942,7 @@ class ForwardModel:
             raise InputError(f"restitution outside [{E_MIN}, 1]: {e[(e < E_MIN) | (e > 1)]}")
         check_elastic(self.normal, e)
         # e is checked (the table's own check and clip would change nothing)
-        pulse = _pulse_table(self.normal, self.n_steps).pulses(e)
+        pulse = pulse_table(self.normal, self.n_steps).pulses(e)
         tang = None
         if self.tangential != "none" and self.solver == "rk4":
             tang = _rk4_response(pulse, uniq, self.tangential, self.history)
@@ -1325,11 +1324,6 @@ def _cubic_steps(y, dy, step, kink=None, out=None):
         c[2, :, :-1][lin] = 0.0
         c[3, :, :-1][lin] = 0.0
     return c
-
-
-#: :func:`~pipeline.fit.pulse.pulse_table` kept per law and steps (its checks once, not at
-#: every evaluation)
-_pulse_table = functools.lru_cache(maxsize=64)(pulse_table)
 
 
 def _distinct_rows(a):
