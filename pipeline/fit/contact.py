@@ -88,6 +88,7 @@ from .forward import (
     ForwardModel,
     RecordData,
     Solution,
+    _force_table,
     param_scales,
     prepare,
 )
@@ -1232,11 +1233,13 @@ def _shape_match(model, law, e, other, lam, shift, free_e) -> tuple[float, float
     tau, target = _shape_target(law, e, n)
     h = (-0.01 if e + 0.01 > 1.0 else 0.01) if free_e else 0.0
     sol = Solution(normal_pulse(other, [e, e + h], n), None, np.array([0, 1]))
+    table = _force_table(sol, False, sol.pulse.tau_c[:, None] / n)  # once for every call
 
     def fitted(p, jacobian=True):  # p = (e′ as a fraction of the step h, λ, c): the model
-        t, lam_, c = p  # and its Jacobian
+        t, lam_, c = p  # and its Jacobian, both pulses at the same instants
         arg = (tau - c) / lam_
-        out = model._true_forces(sol, np.stack([arg, arg]), False, nderiv=2 if jacobian else 0)
+        nd = 2 if jacobian else 0
+        out = model._true_forces(sol, arg[None, :], False, nderiv=nd, table=table)
         f = out[0]
         m = (f[0] + t * (f[1] - f[0])) / lam_
         if not jacobian:

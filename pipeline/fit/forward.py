@@ -963,24 +963,20 @@ class ForwardModel:
         return out
 
     # -------------------------------------------------------------- predict
-    def _true_forces(self, sol: Solution, tau, need_t, nderiv=0):
+    def _true_forces(self, sol: Solution, tau, need_t, nderiv=0, table=None):
         """Fn, Ft (dimensionless) at τ (C, n) by cubic Hermite on the nodes, 0 out of contact;
         with ``nderiv`` > 0 also their rates d/dτ at the first ``nderiv`` columns.
 
         Each step's cubic is worked out once on the nodes (:func:`_cubic_steps`), so an
         instant costs one gather of its step's coefficients and Horner's rule; the instants
-        out of contact take the zero step after the last."""
+        out of contact take the zero step after the last. ``table``: :func:`_force_table` of
+        ``sol`` and ``need_t``, kept by a caller that asks at several sets of instants."""
         pul = sol.pulse
         k = sol.index
         n = pul.n_steps
         step = pul.tau_c[:, None] / n  # (U, 1) of the unique problems
-        both = need_t and sol.tang is not None
-        # the series' coefficients side by side, (4·S, U·(n + 1)): one gather serves them all
-        table = np.empty((8 if both else 4,) + pul.f.shape)
-        _cubic_steps(pul.f, pul.df, step, out=table[:4])
-        if both:
-            _cubic_steps(sol.tang.ft, sol.tang.dft, step, sol.tang.kink, out=table[4:])
-        table = table.reshape(table.shape[0], -1)
+        if table is None:
+            table = _force_table(sol, need_t, step)
         h = step[k]
         s = tau / h
         j = s.astype(int)
@@ -1300,6 +1296,19 @@ def _sampled(data, step, bandwidth, x, length):
         f = data._lowpass(step, bandwidth)
         x = lfilter(*f, x, axis=-1) if isinstance(f, tuple) else sosfilt(f, x, axis=-1)
     return x[:, :: data.oversample]
+
+
+def _force_table(sol: Solution, need_t, step):
+    """The cubic steps (:func:`_cubic_steps`) of ``sol``'s Fn, and of its Ft where
+    ``need_t``, side by side, (4·S, U·(n + 1)): one gather serves them all. ``step``: the
+    steps τ_c/n_steps, (U, 1)."""
+    pul = sol.pulse
+    both = need_t and sol.tang is not None
+    table = np.empty((8 if both else 4,) + pul.f.shape)
+    _cubic_steps(pul.f, pul.df, step, out=table[:4])
+    if both:
+        _cubic_steps(sol.tang.ft, sol.tang.dft, step, sol.tang.kink, out=table[4:])
+    return table.reshape(table.shape[0], -1)
 
 
 def _cubic_steps(y, dy, step, kink=None, out=None):
