@@ -1146,8 +1146,12 @@ def _geometry(fit, scene) -> dict | None:
     rel = se["mu"] / mu if "mu" in fit.vary and mu > 0 else math.inf
     e_t = fit.physics.get("e_t", math.nan)
     tol_t = floor((1.0 - e_t) * rel) if math.isfinite(rel) else math.inf
+    # a normal impact turns nothing: geometry_error's zeros, at any valid e and μ, need no
+    # scene of them (a copy, validated again)
+    head_on = float(scene.v_t0) == 0 and math.isfinite(mu)
     try:
-        out = geometry_error(scene.replace(e=e, mu=mu), tol=tol, normal=fit.model.normal)
+        at = scene if head_on else scene.replace(e=e, mu=mu)
+        out = geometry_error(at, tol=tol, normal=fit.model.normal)
     except (InputError, RuntimeError):
         return None
     return {**out, "tol_t": tol_t, "exceeds": bool(out["e_n"] > tol or out["e_t"] > tol_t)}
