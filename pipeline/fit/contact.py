@@ -1212,7 +1212,8 @@ def _stated_start(fit, vary) -> dict:
     step = np.array([fit.priors[k][0] - theta[k] for k in held])
     rhs = p.residual(fit.theta)[:n] + J[:, [names.index(k) for k in held]] @ step
     dc = -np.linalg.lstsq(J[:, c] / scale[c], rhs, rcond=None)[0] / scale[c]
-    se = np.array([fit.stderr.get(k, math.nan) for k in free])
+    stderr = fit.stderr  # a property worked out at each call
+    se = np.array([stderr.get(k, math.nan) for k in free])
     known = np.isfinite(se)  # a parameter bound on one side only keeps its value
     if not np.all(np.abs(dc[known]) <= _LINEAR_REACH * se[known]):
         return start
