@@ -661,6 +661,29 @@ def test_a_lean_fit_is_the_full_fit_without_its_checks(angle, mu, tangential):
         np.testing.assert_allclose(lean.cov, full.cov, rtol=1e-13, atol=0.0)
 
 
+def test_a_lean_alpha_fit_keeps_the_restitution_it_implies():
+    """A lean fit skips what its parameters imply (``physics``), but a fit of α keeps it:
+    the verdict starts the other laws' fits at its e_n. That e_n is the restitution
+    Hunt & Crossley's α implies at the record's normal speed (closed form,
+    contact.cor_hunt_crossley_alpha), to the pulse table's accuracy; a lean fit of e has
+    none."""
+    from pipeline.fit.contact import DEFAULT_VARY, fit_model
+    from pipeline.fit.forward import ForwardModel
+
+    sc = gr(angle_deg=0.0, mu=0.131)
+    rec = to_sensor(impact(sc, samples=2001, tangential="none"), seed=5)
+    model = ForwardModel("hunt_crossley", "none", "total", 128)
+    vary = DEFAULT_VARY("hunt_crossley", "none")
+    alpha = tuple("alpha" if n == "e" else n for n in vary)
+    lean_e, lean_alpha = (
+        quiet(fit_model, rec, sc, model, v, n_boot=0, systematics={}, lean=True)
+        for v in (vary, alpha)
+    )
+    assert lean_e.physics == {}
+    e = contact.cor_hunt_crossley_alpha(lean_alpha.values["alpha"], sc.v_n0)
+    assert lean_alpha.physics["e_n"] == pytest.approx(e, abs=1e-5)
+
+
 def test_the_verdict_s_law_table_and_spread_are_independent_refits():
     """The verdict's fits start warm (the law's own refit from the fit's optimum with its
     systematics stepped back linearly, the other laws from the fitted pulse's shape): each

@@ -808,7 +808,8 @@ def fit_model(
     options it takes. ``data``: the record already prepared with those options
     (:func:`pipeline.fit.forward.prepare`), as the verdict's fits share it. ``lean``: a fit
     read for its χ² and values alone, as the verdict's fits of the other laws and filter
-    orders are (:func:`pipeline.fit.procedure.run_fit`: no misfit test, no standard errors).
+    orders are (:func:`pipeline.fit.procedure.run_fit`: no misfit test, no standard errors;
+    no ``physics`` either, but where α is fitted).
 
     Where the systematics look for the sensor's dynamics (their mapping holds
     ``"resonance"``, ``"discharge"``) and the sensor states none, the fit's residuals are
@@ -1064,9 +1065,12 @@ def _fit_model(
             if k == n_pass - 2:
                 notes.append(note)
     kw["systematics"] = syst
-    P = design.local(kw["theta"][None, :])[0]
-    sol = kw["problem"].solution(kw["theta"])[0]
-    kw.update(data=data, physics=model.physics(data, P, sol))
+    physics = {}  # a lean fit's, but an α fit's: the verdict starts the other laws at its e_n
+    if not lean or use_alpha:
+        P = design.local(kw["theta"][None, :])[0]
+        sol = kw["problem"].solution(kw["theta"])[0]
+        physics = model.physics(data, P, sol)
+    kw.update(data=data, physics=physics)
     kw["cost_s"] = time.perf_counter() - t_begin
     return ContactFit(**kw)
 
