@@ -59,7 +59,7 @@ from ..record import channel, times
 from ..scene import Scene
 from ..simulate import tangential_history
 from ..smooth import noise_level
-from ..window import find_contact, mad_sigma
+from ..window import _centred, find_contact, mad_sigma
 from .noise import WHITE, NoiseModel, measure_noise
 from .pulse import E_MIN, check_elastic, pulse_table, shape_of
 from .sensor import SensorSpec, sensor_spec
@@ -732,10 +732,10 @@ def baseline_basis(t) -> np.ndarray:
     """Orthonormal basis (n, 2) of {1, t − t̄} at the instants ``t`` [s] (two or more
     distinct): a channel's residual baseline, fitted with the contact (module notes). The
     two functions are orthogonal over the samples: each is normalised."""
-    x = t - np.add.reduce(t) / t.size  # numpy's mean, without its wrapper
+    _, x, xx = _centred(t)
     basis = np.empty((t.size, 2))
     basis[:, 0] = 1.0 / math.sqrt(t.size)
-    basis[:, 1] = x / math.sqrt(float(x.dot(x)))  # (x @ x, by the lighter call)
+    basis[:, 1] = x / math.sqrt(xx)
     return basis
 
 
@@ -769,9 +769,7 @@ def _pre_trigger(win, t, spikes=None):
         pre[spikes] = False
     if np.count_nonzero(pre) < 20:
         return None
-    tt = t[pre]
-    x = tt - np.add.reduce(tt) / tt.size  # numpy's mean, without its wrapper
-    return pre, x, float(x.dot(x))  # (x @ x, by the lighter call)
+    return (pre, *_centred(t[pre])[1:])
 
 
 def _before_contact(win, t, f, spikes=None, part=False):
