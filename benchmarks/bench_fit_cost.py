@@ -405,8 +405,6 @@ class _Replay:
         return (form, tuple(prints), tuple(P.tobytes() for P in Ps), extra)
 
     def _call(self, fn, key, *args):
-        if not self.on:
-            return fn(*args)
         if key in self.memo:
             return _copied(self.memo[key])
         if self.replaying:
@@ -462,10 +460,10 @@ def free_model(rec, scene, fits, repeat) -> dict:
     """{name: {"model_free_s", "s", "model_share"}} of each of ``fits`` ({name: fit
     options}): its CPU time [s] with its model's evaluations replayed (:class:`_Replay`) —
     the least any model, however fast, would let the fit take, with the record prepared as
-    now, lmfit driving and every check, covariance, bootstrap and verdict computed — and
-    computed, one of each a round, and the share of its time in its model. Each replayed fit
-    is checked to give the recorded fit's numbers bit for bit, with no evaluation computed
-    afresh."""
+    now, lmfit driving and every check, covariance, bootstrap and verdict computed —, its
+    CPU time with them computed (the two interleaved, one of each a round) and the share of
+    that time its model takes. Each replayed fit is checked to give the recorded fit's
+    numbers bit for bit, with no evaluation computed afresh."""
     out = {}
     for name, opts in fits.items():
 
