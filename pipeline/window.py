@@ -1337,7 +1337,7 @@ def _choose(runs, r, sigma, kk, src) -> _Found | None:
     spike = GLITCH_SAMPLES
     glitches, pulses = [], []
     for run in runs:
-        if run.b - run.a < spike:  # run.size <= spike
+        if run.size <= spike:
             glitches.append(run)
         elif run.core >= 2:
             pulses.append(run)

@@ -1303,23 +1303,23 @@ def _force_table(sol: Solution, need_t, step):
     pul = sol.pulse
     both = need_t and sol.tang is not None
     table = np.empty((8 if both else 4,) + pul.f.shape)
-    _cubic_steps(pul.f, pul.df, step, out=table[:4])
+    _cubic_steps(pul.f, pul.df, step, None, table[:4])
     if both:
-        _cubic_steps(sol.tang.ft, sol.tang.dft, step, sol.tang.kink, out=table[4:])
+        _cubic_steps(sol.tang.ft, sol.tang.dft, step, sol.tang.kink, table[4:])
     return table.reshape(table.shape[0], -1)
 
 
-def _cubic_steps(y, dy, step, kink=None, out=None):
+def _cubic_steps(y, dy, step, kink, out):
     """The cubic Hermite interpolant of node values ``y`` and rates ``dy`` (U, n + 1) on
     steps of ``step`` (U, 1), as each step's power series in θ = (τ − τ_j)/step ∈ [0, 1]:
     ``c0 + θ·(c1 + θ·(c2 + θ·c3))``, shape (4, U, n + 1) — the steps, then a zero one (the
     instants out of contact). Steps flagged in ``kink`` (U, n + 1: a stick/slide switch
-    inside) are linear between their nodes. ``out``: the array to fill (else a new one)."""
+    inside; None: none) are linear between their nodes. ``out``: the array to fill."""
     y0, y1 = y[:, :-1], y[:, 1:]
     sd = step * dy
     a, b = sd[:, :-1], sd[:, 1:]
     rise = y1 - y0
-    c = np.empty((4,) + y.shape) if out is None else out
+    c = out
     c[:, :, -1] = 0.0
     c[0, :, :-1] = y0
     c[1, :, :-1] = a

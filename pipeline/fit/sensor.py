@@ -470,13 +470,13 @@ def sensor_spec(record, sensor=None) -> SensorSpec:
         for k in named:  # each starts with one of the prefixes: its first letter tells which
             key = str(k)
             if key[0] == "s":  # sensor_…, of the fields read
-                if (name := k.removeprefix("sensor_")) in _READ:
+                if (name := key.removeprefix("sensor_")) in _READ:
                     stated[name] = attrs[k]
             elif key[0] == "d":  # decouple…
                 decoupled = True
             elif not key.startswith("meta_sensor_"):
                 meta[k] = attrs[k]
-            elif (name := k.removeprefix("meta_sensor_")) in _READ and (
+            elif (name := key.removeprefix("meta_sensor_")) in _READ and (
                 value := _written(attrs[k])
             ) is not None:  # to_sensor's, through a sensor CSV
                 written[name] = value
